@@ -1,0 +1,24 @@
+// The one place that turns a formulation keyword into an object (after IPC
+// Toolkit's create_broad_phase): nowhere else switches on the keyword.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/case_file.hpp"
+#include "model/contact_formulation.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+struct FormulationInfo {
+  std::string name;
+  std::string help;
+};
+const std::vector<FormulationInfo>& formulations();
+
+// Reads the formulation's own case keys from `file`; throws InputError for
+// an unknown name or a combination the scene cannot use.
+std::unique_ptr<ContactFormulation> make_formulation(const std::string& name, CaseFile& file, const Scene& scene);
+
+}  // namespace rpfem

@@ -1,0 +1,13 @@
+// "none": no contact treatment. Scenes whose bodies touch nothing but
+// prescribed-velocity platens, tractions and symmetry planes.
+#pragma once
+#include "model/contact_formulation.hpp"
+
+namespace rpfem {
+
+class NoContact final : public ContactFormulation {
+ public:
+  std::string name() const override { return "none"; }
+};
+
+}  // namespace rpfem

@@ -1,0 +1,41 @@
+// rpfem command line. The kernel never prints; this driver does.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "app/run_command.hpp"
+#include "core/types.hpp"
+#include "core/version.hpp"
+#include "factory.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rpfem: rigid-plastic finite elements for metal forming with frictional contact"};
+  app.set_version_flag("--version", rpfem::kVersion);
+  app.require_subcommand(1);
+
+  rpfem::RunOptions run;
+  std::string formulation_help = "contact formulation, overriding the case's run.formulation:";
+  for (const auto& f : rpfem::formulations()) formulation_help += "\n  " + f.name + ": " + f.help;
+  auto* run_cmd = app.add_subcommand("run", "Run one case file; results in --out");
+  run_cmd->add_option("case", run.case_file, "case file (TOML)")->required();
+  run_cmd->add_option("--out,-o", run.out_dir, "output folder (created)")->required();
+  run_cmd->add_option("--formulation,-f", run.formulation, formulation_help);
+  run_cmd->add_option("--set,-s", run.overrides, "override a case value: key.path=value (repeatable)");
+  run_cmd->add_flag("--quiet,-q", run.quiet, "no progress output");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    if (*run_cmd) return rpfem::run_command(run);
+  } catch (const rpfem::InputError& e) {
+    std::fprintf(stderr, "rpfem: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rpfem: internal error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,20 @@
+// `rpfem run`: one scene, one formulation, results in one folder.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace rpfem {
+
+struct RunOptions {
+  std::string case_file;
+  std::string out_dir;
+  std::string formulation;  // empty: the scene's own
+  std::vector<std::string> overrides;
+  bool quiet = false;
+};
+
+// Returns the process exit code: 0 finished, 2 bad input, 3 stopped early
+// (finished steps saved, reason printed and in summary.json).
+int run_command(const RunOptions& opt);
+
+}  // namespace rpfem

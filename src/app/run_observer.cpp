@@ -1,0 +1,144 @@
+#include "app/run_observer.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace rpfem {
+
+namespace {
+toml::array pair(const Vec2& v) { return toml::array{v(0), v(1)}; }
+std::string to_json(const toml::table& t) {
+  std::ostringstream os;
+  os << toml::json_formatter{t};
+  return os.str();
+}
+}  // namespace
+
+RunObserver::RunObserver(const Scene& scene, const std::string& dir, toml::table summary, bool quiet)
+    : scene_(scene), dir_(dir), summary_(std::move(summary)), quiet_(quiet), t0_(std::chrono::steady_clock::now()) {
+  summary_.insert_or_assign("status", "running");
+  writer_ = std::make_unique<ResultWriter>(dir_, scene_.mesh, to_json(summary_));
+  const auto& s = scene_.stepping;
+  expected_steps_ = std::max(1, static_cast<int>(std::ceil(s.end_stroke / s.stroke_increment - 1e-9)));
+}
+
+void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::string>& load_names,
+                           const std::vector<std::string>& report_names) {
+  load_names_ = load_names;
+  toml::table derived{{"reference_speed_mm_s", d.reference_speed},
+                      {"reference_length_mm", d.reference_length},
+                      {"reference_strain_rate_1_s", d.reference_strain_rate},
+                      {"limiting_strain_rate_1_s", d.limiting_strain_rate},
+                      {"regularization_s", d.regularization},
+                      {"dt_nominal_s", d.dt_nominal}};
+  toml::table alpha;
+  for (std::size_t b = 0; b < d.alpha.size(); ++b) alpha.insert(scene_.bodies[b].name, d.alpha[b]);
+  derived.insert("alpha_MPa_s", alpha);
+  summary_.insert_or_assign("derived", derived);
+  std::vector<std::string> cols{"step", "time", "stroke"};
+  for (const auto& n : load_names) {
+    cols.push_back(n + ".Fx");
+    cols.push_back(n + ".Fy");
+  }
+  for (const auto& c : {"newton_iterations", "contact_passes", "residual", "volume", "volume_change", "dt", "cuts",
+                        "min_scaled_jacobian", "rigid_points"})
+    cols.push_back(c);
+  for (const auto& n : report_names) cols.push_back(n);
+  history_ = std::make_unique<HistoryWriter>(dir_ + "/history.csv", cols);
+  write_summary();
+}
+
+void RunObserver::on_step(const StepRecord& r) {
+  if (r.step == 0) initial_volume_ = r.volume;
+  const double dv = r.volume / initial_volume_ - 1.0;
+  max_volume_change_ = std::max(max_volume_change_, std::abs(dv));
+  min_quality_ = std::min(min_quality_, r.min_scaled_jacobian);
+  std::vector<double> row{double(r.step), r.time, r.stroke};
+  for (const Vec2& l : r.loads) {
+    row.push_back(l(0));
+    row.push_back(l(1));
+  }
+  for (double v : {double(r.newton_iterations), double(r.contact_passes), r.residual, r.volume, dv, r.dt,
+                   double(r.cuts), r.min_scaled_jacobian, double(r.rigid_points)})
+    row.push_back(v);
+  row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());
+  history_->write_row(row);
+  if (r.step % scene_.stepping.output_every == 0) {
+    StepFields f;
+    f.step = r.step;
+    f.time = r.time;
+    f.stroke = r.stroke;
+    f.x = &r.x;
+    f.v = &r.v;
+    f.strain_rate = &r.strain_rate;
+    f.strain = &r.strain;
+    f.mean_stress = &r.mean_stress;
+    f.element_scalars["flow_stress"] = r.flow_stress;
+    writer_->write_step(f);
+    last_field_step_ = r.step;
+  }
+  last_ = r;
+  last_step_ = r.step;
+  if (!quiet_ && (r.step % std::max(1, expected_steps_ / 20) == 0 || r.step == expected_steps_)) {
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    const double frac = std::min(1.0, r.stroke / scene_.stepping.end_stroke);
+    std::printf("  step %5d  stroke %8.4f mm (%3.0f%%)  newton %2d  residual %.1e  %6.1f s elapsed",
+                r.step, r.stroke, 100 * frac, r.newton_iterations, r.residual, el);
+    if (frac > 0.02) std::printf(", ~%.0f s left", el * (1 - frac) / frac);
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+  if (r.step % 10 == 0) write_summary();
+}
+
+void RunObserver::on_retry(int step, double dt, const std::string& why) {
+  if (!quiet_) std::printf("  step %5d  retry with dt %.3g s: %s\n", step, 0.5 * dt, why.c_str());
+}
+
+void RunObserver::write_summary() {
+  summary_.insert_or_assign("wall_time_s",
+                            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count());
+  summary_.insert_or_assign("steps", last_step_);
+  write_text_atomically(dir_ + "/summary.json", to_json(summary_) + "\n");
+}
+
+std::string RunObserver::finish(const RunOutcome& out) {
+  if (last_field_step_ != last_step_ && last_.x.size()) {
+    StepFields f;
+    f.step = last_.step;
+    f.time = last_.time;
+    f.stroke = last_.stroke;
+    f.x = &last_.x;
+    f.v = &last_.v;
+    f.strain_rate = &last_.strain_rate;
+    f.strain = &last_.strain;
+    f.mean_stress = &last_.mean_stress;
+    f.element_scalars["flow_stress"] = last_.flow_stress;
+    writer_->write_step(f);
+  }
+  summary_.insert_or_assign("status", out.finished ? "finished" : "stopped");
+  if (!out.finished) summary_.insert_or_assign("reason", out.reason);
+  summary_.insert_or_assign("total_newton_iterations", out.total_newton_iterations);
+  summary_.insert_or_assign("total_step_cuts", out.total_cuts);
+  summary_.insert_or_assign("final_stroke_mm", last_.stroke);
+  toml::table loads;
+  for (std::size_t i = 0; i < load_names_.size() && i < last_.loads.size(); ++i)
+    loads.insert(load_names_[i], pair(last_.loads[i]));
+  summary_.insert_or_assign("final_load_N", loads);
+  summary_.insert_or_assign("final_volume_change", initial_volume_ > 0 ? last_.volume / initial_volume_ - 1 : 0.0);
+  summary_.insert_or_assign("max_abs_volume_change", max_volume_change_);
+  summary_.insert_or_assign("min_scaled_jacobian", min_quality_);
+  summary_.insert_or_assign(
+      "timings_s", toml::table{{"assembly", out.assembly_seconds}, {"symbolic_analysis", out.analyze_seconds},
+                               {"factorization", out.factor_seconds}, {"triangular_solves", out.solve_seconds}});
+  summary_.insert_or_assign("linear_solver", toml::table{{"pattern_builds", out.pattern_builds},
+                                                          {"factorizations", out.factorizations},
+                                                          {"cholesky_fallbacks", out.cholesky_fallbacks}});
+  write_summary();
+  const std::string json = to_json(summary_);
+  writer_->update_metadata(json);
+  return json;
+}
+
+}  // namespace rpfem

@@ -1,0 +1,43 @@
+// The run driver's observer: writes every recorded step (result.h5,
+// result.xdmf, history.csv, summary.json) and prints progress.
+#pragma once
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "io/result_writer.hpp"
+#include "model/scene.hpp"
+#include "model/stepper.hpp"
+
+namespace rpfem {
+
+class RunObserver final : public StepObserver {
+ public:
+  RunObserver(const Scene& scene, const std::string& dir, toml::table summary, bool quiet);
+  void on_start(const DerivedParameters& d, const std::vector<std::string>& load_names,
+                const std::vector<std::string>& report_names) override;
+  void on_step(const StepRecord& r) override;
+  void on_retry(int step, double dt, const std::string& why) override;
+  // Completes summary.json with the outcome; returns its text.
+  std::string finish(const RunOutcome& out);
+  const std::string& dir() const { return dir_; }
+
+ private:
+  void write_summary();
+
+  const Scene& scene_;
+  std::string dir_;
+  toml::table summary_;
+  bool quiet_;
+  std::unique_ptr<ResultWriter> writer_;
+  std::unique_ptr<HistoryWriter> history_;
+  std::vector<std::string> load_names_;
+  std::chrono::steady_clock::time_point t0_;
+  double initial_volume_ = 0, max_volume_change_ = 0, min_quality_ = 1;
+  int last_field_step_ = -1, expected_steps_ = 1, last_step_ = 0;
+  StepRecord last_;
+};
+
+}  // namespace rpfem

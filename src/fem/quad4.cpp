@@ -1,0 +1,43 @@
+#include "fem/quad4.hpp"
+
+#include <Eigen/LU>
+
+namespace rpfem {
+
+Quad4Point quad4_point(const Quad4Coords& X, double xi, double eta) {
+  static constexpr double sx[4] = {-1, 1, 1, -1};
+  static constexpr double sy[4] = {-1, -1, 1, 1};
+  Quad4Point p;
+  Eigen::Matrix<double, 4, 2> dNdxi;
+  for (int a = 0; a < 4; ++a) {
+    p.N(a) = 0.25 * (1 + sx[a] * xi) * (1 + sy[a] * eta);
+    dNdxi(a, 0) = 0.25 * sx[a] * (1 + sy[a] * eta);
+    dNdxi(a, 1) = 0.25 * sy[a] * (1 + sx[a] * xi);
+  }
+  Eigen::Matrix2d J = Eigen::Matrix2d::Zero();  // J_ij = d x_j / d xi_i
+  for (int a = 0; a < 4; ++a) {
+    J(0, 0) += dNdxi(a, 0) * X[a](0);
+    J(0, 1) += dNdxi(a, 0) * X[a](1);
+    J(1, 0) += dNdxi(a, 1) * X[a](0);
+    J(1, 1) += dNdxi(a, 1) * X[a](1);
+    p.radius += p.N(a) * X[a](0);
+  }
+  p.detJ = J.determinant();
+  const Eigen::Matrix2d Jinv = J.inverse();
+  p.dN = dNdxi * Jinv.transpose();
+  return p;
+}
+
+Mat48 strain_rate_matrix(const Quad4Point& p, Geometry g) {
+  Mat48 B = Mat48::Zero();
+  for (int a = 0; a < 4; ++a) {
+    B(0, 2 * a) = p.dN(a, 0);
+    B(1, 2 * a + 1) = p.dN(a, 1);
+    if (g == Geometry::Axisymmetric) B(2, 2 * a) = p.N(a) / p.radius;  // hoop v_r / r
+    B(3, 2 * a) = p.dN(a, 1);
+    B(3, 2 * a + 1) = p.dN(a, 0);
+  }
+  return B;
+}
+
+}  // namespace rpfem

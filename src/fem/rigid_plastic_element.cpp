@@ -1,0 +1,127 @@
+#include "fem/rigid_plastic_element.hpp"
+
+#include <cmath>
+
+namespace rpfem {
+
+const Eigen::Matrix4d& effective_rate_metric() {
+  static const Eigen::Matrix4d P = [] {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(i, j) = (2.0 / 3.0) * ((i == j ? 1.0 : 0.0) - 1.0 / 3.0);
+    m(3, 3) = 1.0 / 3.0;
+    return m;
+  }();
+  return P;
+}
+
+namespace {
+
+FlowPoint material_point(const RigidPlasticInput& in, int q, double rate) {
+  if (in.viscous_floor <= 0) {
+    FlowPoint f = flow_point(*in.law, in.strain[q], rate, in.epsdot_lim);
+    if (in.regularization > 0) {
+      const double c = in.regularization * in.law->yield(in.strain[q]);
+      f.phi += 0.5 * c * rate * rate;
+      f.sigma += c * rate;
+      f.dsigma += c;
+    }
+    return f;
+  }
+  // Cold-start predictor: linear viscous everywhere, with the viscosity of
+  // the material at the given rate.
+  const double c = flow_point(*in.law, in.strain[q], in.viscous_floor, in.epsdot_lim).sigma / in.viscous_floor;
+  FlowPoint f;
+  f.phi = 0.5 * c * rate * rate;
+  f.sigma = c * rate;
+  f.dsigma = c;
+  f.rigid = true;
+  return f;
+}
+
+// Volumetric rate row at the centre: epsdot_v = b_v . v.
+Vec8 volumetric_row(const Quad4Point& c, Geometry g) {
+  const Mat48 B = strain_rate_matrix(c, g);
+  return (B.row(0) + B.row(1) + B.row(2)).transpose();
+}
+
+template <bool kGrad>
+double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
+  const auto& P = effective_rate_metric();
+  double energy = 0;
+  if constexpr (kGrad) {
+    out->grad.setZero();
+    out->hess.setZero();
+  }
+  for (int q = 0; q < 4; ++q) {
+    const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
+    const double w = volume_weight(p, in.geometry, 1.0);
+    const Mat48 B = strain_rate_matrix(p, in.geometry);
+    const Eigen::Vector4d eps = B * in.v;
+    const Eigen::Vector4d Peps = P * eps;
+    const double rate = std::sqrt(std::max(eps.dot(Peps), 0.0));
+    const FlowPoint f = material_point(in, q, rate);
+    energy += w * f.phi;
+    if constexpr (kGrad) {
+      // d phi/dv = (sigma/rate) B^T P eps; the Hessian adds
+      // (sigma' / rate^2 - sigma / rate^3) (B^T P eps)(B^T P eps)^T, which is
+      // identically zero in the linear-viscous (rigid) range.
+      const double secant = f.rigid ? f.dsigma : f.sigma / rate;
+      const Vec8 g = B.transpose() * Peps;
+      out->grad.noalias() += w * secant * g;
+      if (t == Tangent::None) continue;
+      out->hess.noalias() += w * secant * (B.transpose() * P * B);
+      if (t == Tangent::Consistent && !f.rigid) {
+        const double c = (f.dsigma - secant) / (rate * rate);
+        out->hess.noalias() += (w * c) * g * g.transpose();
+      }
+    }
+  }
+  // Volumetric penalty, 1-point rule (weight 4).
+  const Quad4Point c = quad4_point(in.X, 0.0, 0.0);
+  const double wc = volume_weight(c, in.geometry, 4.0);
+  const Vec8 bv = volumetric_row(c, in.geometry);
+  const double ev = bv.dot(in.v);
+  energy += 0.5 * in.alpha * wc * ev * ev;
+  if constexpr (kGrad) {
+    out->grad.noalias() += in.alpha * wc * ev * bv;
+    if (t != Tangent::None) out->hess.noalias() += in.alpha * wc * bv * bv.transpose();
+    out->energy = energy;
+  }
+  return energy;
+}
+
+}  // namespace
+
+double rigid_plastic_energy(const RigidPlasticInput& in) {
+  return accumulate<false>(in, Tangent::Secant, nullptr);
+}
+
+void rigid_plastic_terms(const RigidPlasticInput& in, Tangent t, ElementTerms& out) {
+  accumulate<true>(in, t, &out);
+}
+
+ElementPost rigid_plastic_post(const RigidPlasticInput& in) {
+  const auto& P = effective_rate_metric();
+  ElementPost post;
+  double wsum = 0;
+  post.min_detJ = INFINITY;
+  for (int q = 0; q < 4; ++q) {
+    const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
+    const double w = volume_weight(p, in.geometry, 1.0);
+    const Eigen::Vector4d eps = strain_rate_matrix(p, in.geometry) * in.v;
+    post.strain_rate[q] = std::sqrt(std::max(eps.dot(P * eps), 0.0));
+    post.strain_rate_mean += w * post.strain_rate[q];
+    wsum += w;
+    post.min_detJ = std::min(post.min_detJ, p.detJ);
+  }
+  post.strain_rate_mean = wsum > 0 ? post.strain_rate_mean / wsum : 0.0;
+  const Quad4Point c = quad4_point(in.X, 0.0, 0.0);
+  post.min_detJ = std::min(post.min_detJ, c.detJ);
+  post.volume = wsum;
+  post.volumetric_rate = volumetric_row(c, in.geometry).dot(in.v);
+  post.mean_stress = in.alpha * post.volumetric_rate;  // sigma_m = alpha epsdot_v
+  return post;
+}
+
+}  // namespace rpfem

@@ -1,0 +1,85 @@
+// Reading a TOML case file with validation and a record of every value used.
+//
+// Every read names its key, its default (if any) and what it expects; a value
+// of the wrong type or out of range is an InputError naming the file, the
+// full key path and the expectation. Keys never read are reported by finish()
+// as unknown. used_json() returns every value actually used, defaults
+// included, as JSON for the run's summary.
+#pragma once
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "core/types.hpp"
+
+namespace rpfem {
+
+class CaseFile;
+
+// Allowed range of a number: lo/hi bounds, open or closed.
+struct Range {
+  double lo = -INFINITY, hi = INFINITY;
+  bool lo_open = false, hi_open = false;
+  std::string describe() const;
+  static Range positive() { return {0, INFINITY, true, false}; }
+  static Range nonnegative() { return {0, INFINITY, false, false}; }
+  static Range any() { return {}; }
+};
+
+class CaseSection {
+ public:
+  const std::string& path() const { return path_; }
+  bool has(const std::string& key) const;
+  // Numbers: required when def is empty.
+  double real(const std::string& key, std::optional<double> def, Range r, const std::string& unit = "");
+  std::optional<double> optional_real(const std::string& key, Range r, const std::string& unit = "");
+  int integer(const std::string& key, std::optional<int> def, int lo, int hi);
+  std::string text(const std::string& key, std::optional<std::string> def,
+                   const std::vector<std::string>& allowed = {});
+  bool flag(const std::string& key, std::optional<bool> def);
+  // Sub-tables and arrays of tables.
+  std::optional<CaseSection> table(const std::string& key);
+  CaseSection required_table(const std::string& key);
+  // The table, or an empty one if absent (so its defaults are recorded).
+  CaseSection section(const std::string& key);
+  std::vector<CaseSection> table_array(const std::string& key);
+  std::vector<std::string> keys() const;
+  [[noreturn]] void fail(const std::string& key, const std::string& expected) const;
+
+ private:
+  friend class CaseFile;
+  CaseSection(CaseFile* f, toml::table* t, std::string path) : file_(f), t_(t), path_(std::move(path)) {}
+  std::string full(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  toml::node* get(const std::string& key) const;
+  void record(const std::string& key, toml::node&& value);
+
+  CaseFile* file_;
+  toml::table* t_;
+  std::string path_;
+};
+
+class CaseFile {
+ public:
+  // Parses the file and applies overrides "a.b.c=value" (value in TOML
+  // syntax; a bare word is taken as a string). Throws InputError.
+  CaseFile(const std::string& path, const std::vector<std::string>& overrides = {});
+  CaseSection root() { return CaseSection(this, &data_, ""); }
+  const std::string& path() const { return path_; }
+  // Throws InputError naming the first key that no reader used.
+  void finish() const;
+  std::string used_json() const;
+  const toml::table& used() const { return used_; }
+  [[noreturn]] void fail(const std::string& key, const std::string& expected) const;
+
+ private:
+  friend class CaseSection;
+  std::string path_;
+  toml::table data_;
+  toml::table used_;
+  std::set<std::string> visited_;
+};
+
+}  // namespace rpfem

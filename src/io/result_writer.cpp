@@ -1,0 +1,244 @@
+#include "io/result_writer.hpp"
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace rpfem {
+
+namespace {
+
+void check(herr_t s, const std::string& what) {
+  if (s < 0) throw std::runtime_error("HDF5: " + what);
+}
+
+// RAII for hid_t handles.
+struct H {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  H(hid_t i, herr_t (*c)(hid_t), const std::string& what) : id(i), close(c) {
+    if (id < 0) throw std::runtime_error("HDF5: " + what);
+  }
+  ~H() { close(id); }
+  H(const H&) = delete;
+  H& operator=(const H&) = delete;
+};
+
+void write_array(hid_t parent, const std::string& name, const void* data, hid_t type, std::vector<hsize_t> dims) {
+  H space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, "dataspace " + name);
+  H set(H5Dcreate2(parent, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+        "create " + name);
+  check(H5Dwrite(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
+}
+
+void write_doubles(hid_t parent, const std::string& name, const std::vector<double>& v, hsize_t cols = 1) {
+  std::vector<hsize_t> dims{v.size() / cols};
+  if (cols > 1) dims.push_back(cols);
+  write_array(parent, name, v.data(), H5T_NATIVE_DOUBLE, dims);
+}
+
+void set_attr_string(hid_t obj, const std::string& name, const std::string& value) {
+  if (H5Aexists(obj, name.c_str()) > 0) check(H5Adelete(obj, name.c_str()), "delete attribute " + name);
+  H type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+  check(H5Tset_size(type.id, std::max<std::size_t>(value.size(), 1)), "string size");
+  H space(H5Screate(H5S_SCALAR), H5Sclose, "scalar space");
+  H attr(H5Acreate2(obj, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, "attribute " + name);
+  check(H5Awrite(attr.id, type.id, value.c_str()), "write attribute " + name);
+}
+
+template <class T>
+void set_attr(hid_t obj, const std::string& name, T value, hid_t type) {
+  H space(H5Screate(H5S_SCALAR), H5Sclose, "scalar space");
+  H attr(H5Acreate2(obj, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, "attribute " + name);
+  check(H5Awrite(attr.id, type, &value), "write attribute " + name);
+}
+
+std::vector<double> flatten(const std::vector<Vec2>& v, int width = 2) {
+  std::vector<double> out;
+  out.reserve(v.size() * width);
+  for (const auto& p : v) {
+    out.push_back(p(0));
+    out.push_back(p(1));
+    if (width == 3) out.push_back(0.0);
+  }
+  return out;
+}
+
+void require_finite(const std::vector<double>& v, const std::string& name) {
+  for (double x : v)
+    if (!std::isfinite(x)) throw std::logic_error("result field '" + name + "' holds a non-finite value");
+}
+
+}  // namespace
+
+struct ResultWriter::Impl {
+  std::string dir;
+  hid_t file = -1;
+  Index nn = 0, ne = 0;
+  std::vector<int> steps;
+  std::vector<double> times;
+  std::vector<std::vector<std::string>> node_extra, element_extra;
+  void write_xdmf() const;
+};
+
+ResultWriter::ResultWriter(const std::string& dir, const Mesh& mesh, const std::string& metadata_json)
+    : impl_(std::make_unique<Impl>()) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  std::filesystem::create_directories(dir);
+  impl_->dir = dir;
+  impl_->nn = mesh.num_nodes();
+  impl_->ne = mesh.num_elements();
+  const std::string path = dir + "/result.h5";
+  impl_->file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (impl_->file < 0) throw std::runtime_error("cannot create " + path);
+  H g(H5Gcreate2(impl_->file, "/mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/mesh");
+  std::vector<long long> conn;
+  for (const auto& q : mesh.quads)
+    for (Index n : q) conn.push_back(n);
+  write_array(g.id, "connectivity", conn.data(), H5T_NATIVE_LLONG, {hsize_t(mesh.num_elements()), 4});
+  write_array(g.id, "element_body", mesh.element_body.data(), H5T_NATIVE_INT, {hsize_t(mesh.num_elements())});
+  write_doubles(g.id, "initial_coordinates", flatten(mesh.x), 2);
+  std::string names;
+  for (const auto& b : mesh.body_names) names += (names.empty() ? "" : ";") + b;
+  set_attr_string(g.id, "body_names", names);
+  H md(H5Gcreate2(impl_->file, "/metadata", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/metadata");
+  set_attr_string(md.id, "json", metadata_json);
+  H st(H5Gcreate2(impl_->file, "/steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/steps");
+  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+}
+
+ResultWriter::~ResultWriter() {
+  if (impl_->file >= 0) H5Fclose(impl_->file);
+}
+
+int ResultWriter::steps_written() const { return static_cast<int>(impl_->steps.size()); }
+
+void ResultWriter::update_metadata(const std::string& json) {
+  H md(H5Gopen2(impl_->file, "/metadata", H5P_DEFAULT), H5Gclose, "/metadata");
+  set_attr_string(md.id, "json", json);
+  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+}
+
+void ResultWriter::write_step(const StepFields& f) {
+  // Validate everything before writing anything.
+  const auto x = flatten(*f.x), v = flatten(*f.v), v3 = flatten(*f.v, 3);
+  require_finite(x, "coordinates");
+  require_finite(v, "velocity");
+  require_finite(*f.strain_rate, "strain_rate");
+  require_finite(*f.strain, "strain");
+  require_finite(*f.mean_stress, "mean_stress");
+  for (const auto& [k, d] : f.node_scalars) require_finite(d, k);
+  for (const auto& [k, d] : f.element_scalars) require_finite(d, k);
+  if (!std::isfinite(f.time) || !std::isfinite(f.stroke)) throw std::logic_error("non-finite time or stroke");
+
+  char name[32];
+  std::snprintf(name, sizeof name, "/steps/%06d", f.step);
+  H g(H5Gcreate2(impl_->file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+  set_attr(g.id, "step", f.step, H5T_NATIVE_INT);
+  set_attr(g.id, "time", f.time, H5T_NATIVE_DOUBLE);
+  set_attr(g.id, "stroke", f.stroke, H5T_NATIVE_DOUBLE);
+  write_doubles(g.id, "coordinates", x, 2);
+  write_doubles(g.id, "velocity", v, 2);
+  write_doubles(g.id, "velocity_xyz", v3, 3);
+  write_doubles(g.id, "strain_rate", *f.strain_rate);
+  write_doubles(g.id, "strain", *f.strain);
+  write_doubles(g.id, "mean_stress", *f.mean_stress);
+  std::vector<std::string> nk, ek;
+  if (!f.node_scalars.empty()) {
+    H n(H5Gcreate2(g.id, "node", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "node");
+    for (const auto& [k, d] : f.node_scalars) write_doubles(n.id, k, d), nk.push_back(k);
+  }
+  if (!f.element_scalars.empty()) {
+    H e(H5Gcreate2(g.id, "element", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "element");
+    for (const auto& [k, d] : f.element_scalars) write_doubles(e.id, k, d), ek.push_back(k);
+  }
+  impl_->steps.push_back(f.step);
+  impl_->times.push_back(f.time);
+  impl_->node_extra.push_back(nk);
+  impl_->element_extra.push_back(ek);
+  // The index of recorded steps and their times, rewritten each step.
+  H steps(H5Gopen2(impl_->file, "/steps", H5P_DEFAULT), H5Gclose, "/steps");
+  for (const char* n : {"index", "time"})
+    if (H5Lexists(steps.id, n, H5P_DEFAULT) > 0) check(H5Ldelete(steps.id, n, H5P_DEFAULT), "delete index");
+  write_array(steps.id, "index", impl_->steps.data(), H5T_NATIVE_INT, {impl_->steps.size()});
+  write_doubles(steps.id, "time", impl_->times);
+  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+  impl_->write_xdmf();
+}
+
+void ResultWriter::Impl::write_xdmf() const {
+  std::ostringstream os;
+  os << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+     << "  <Grid Name=\"rpfem\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  auto item = [&](const std::string& path, Index rows, int cols) {
+    os << "     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"" << rows;
+    if (cols > 1) os << " " << cols;
+    os << "\">result.h5:" << path << "</DataItem>\n";
+  };
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    char g[32];
+    std::snprintf(g, sizeof g, "/steps/%06d", steps[i]);
+    const std::string s(g);
+    os << "   <Grid Name=\"step " << steps[i] << "\" GridType=\"Uniform\">\n"
+       << "    <Time Value=\"" << times[i] << "\"/>\n"
+       << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << ne << "\">\n"
+       << "     <DataItem Format=\"HDF\" NumberType=\"Int\" Precision=\"8\" Dimensions=\"" << ne
+       << " 4\">result.h5:/mesh/connectivity</DataItem>\n    </Topology>\n"
+       << "    <Geometry GeometryType=\"XY\">\n";
+    item(s + "/coordinates", nn, 2);
+    os << "    </Geometry>\n    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n";
+    item(s + "/velocity_xyz", nn, 3);
+    os << "    </Attribute>\n";
+    auto scalar = [&](const std::string& name, const std::string& path, Index rows, const char* center) {
+      os << "    <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"" << center << "\">\n";
+      item(path, rows, 1);
+      os << "    </Attribute>\n";
+    };
+    for (const char* f : {"strain_rate", "strain", "mean_stress"}) scalar(f, s + "/" + f, ne, "Cell");
+    for (const auto& k : node_extra[i]) scalar(k, s + "/node/" + k, nn, "Node");
+    for (const auto& k : element_extra[i]) scalar(k, s + "/element/" + k, ne, "Cell");
+    os << "   </Grid>\n";
+  }
+  os << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  write_text_atomically(dir + "/result.xdmf", os.str());
+}
+
+HistoryWriter::HistoryWriter(const std::string& path, std::vector<std::string> columns)
+    : path_(path), ncols_(columns.size()) {
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot create " + path);
+  for (std::size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
+  out << "\n";
+}
+
+void HistoryWriter::write_row(const std::vector<double>& values) {
+  if (values.size() != ncols_) throw std::logic_error("history row has the wrong number of columns");
+  for (double v : values)
+    if (!std::isfinite(v)) throw std::logic_error("history row holds a non-finite value");
+  std::ofstream out(path_, std::ios::app);
+  char buf[32];
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%.10g", values[i]);
+    out << (i ? "," : "") << buf;
+  }
+  out << "\n";
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write " + path_);
+}
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace rpfem

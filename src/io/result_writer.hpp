@@ -1,0 +1,66 @@
+// Writes a run's results as it goes: DIR/result.h5 (HDF5), DIR/result.xdmf
+// (so ParaView opens the time series) and DIR/history.csv. Every finished
+// step is flushed to disk before write_step returns, so a killed run keeps
+// every finished step. Layout: docs/results-format.md.
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "mesh/mesh.hpp"
+
+namespace rpfem {
+
+// One recorded step's fields. Node fields have one row per node, element
+// fields one value per element. Extra fields (contact pressure, ...) are
+// written under their map key. Values must be finite: a non-finite value is
+// a programming error and write_step throws std::logic_error before writing.
+struct StepFields {
+  int step = 0;
+  double time = 0.0;    // s
+  double stroke = 0.0;  // mm
+  const std::vector<Vec2>* x = nullptr;      // node coordinates, mm
+  const std::vector<Vec2>* v = nullptr;      // node velocities, mm/s
+  const std::vector<double>* strain_rate = nullptr;  // element effective strain rate, 1/s
+  const std::vector<double>* strain = nullptr;       // element effective strain
+  const std::vector<double>* mean_stress = nullptr;  // element mean stress, MPa
+  std::map<std::string, std::vector<double>> node_scalars;     // extra, per node
+  std::map<std::string, std::vector<double>> element_scalars;  // extra, per element
+};
+
+class ResultWriter {
+ public:
+  // Creates DIR (and parents) if needed, writes the mesh topology and the
+  // run metadata (a JSON text stored as the attribute /metadata/json).
+  ResultWriter(const std::string& dir, const Mesh& mesh, const std::string& metadata_json);
+  ~ResultWriter();
+  ResultWriter(const ResultWriter&) = delete;
+  ResultWriter& operator=(const ResultWriter&) = delete;
+
+  void write_step(const StepFields& f);          // result.h5 + result.xdmf
+  void update_metadata(const std::string& json);  // rewrite /metadata/json
+  int steps_written() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// history.csv: one row per step, columns fixed at construction; each row is
+// flushed as it is written.
+class HistoryWriter {
+ public:
+  HistoryWriter(const std::string& path, std::vector<std::string> columns);
+  void write_row(const std::vector<double>& values);  // same length as columns
+ private:
+  std::string path_;
+  std::size_t ncols_;
+};
+
+// Writes text to path atomically (temporary file + rename), so a reader never
+// sees a half-written summary.json.
+void write_text_atomically(const std::string& path, const std::string& text);
+
+}  // namespace rpfem

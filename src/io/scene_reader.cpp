@@ -1,0 +1,156 @@
+#include "io/scene_reader.hpp"
+
+#include <filesystem>
+
+#include "mesh/generate.hpp"
+#include "mesh/quality.hpp"
+
+namespace rpfem {
+
+namespace {
+
+FlowStressLaw read_material(CaseSection m, std::string& name) {
+  FlowStressLaw law;
+  const auto lib_names = library_material_names();
+  if (m.has("library")) {
+    name = m.text("library", std::nullopt);
+    const LibraryMaterial* lib = find_library_material(name);
+    if (!lib) m.fail("library", "expected one of " + lib_names + ", got \"" + name + "\"");
+    law.K = lib->K_kgf_mm2 * kKgfPerMm2ToMPa;
+    law.n = lib->n;
+  } else {
+    name = "custom";
+    const bool in_kgf = m.has("K_kgf_mm2");
+    if (in_kgf && m.has("K")) m.fail("K", "give K (MPa) or K_kgf_mm2, not both");
+    law.K = in_kgf ? m.real("K_kgf_mm2", std::nullopt, Range::positive(), "kgf/mm^2") * kKgfPerMm2ToMPa
+                   : m.real("K", std::nullopt, Range::positive(), "MPa");
+    law.n = m.real("n", std::nullopt, {0, 1}, "");
+  }
+  law.eps0 = m.real("eps0", 0.01, {0, 1, true, false}, "");
+  law.m = m.real("m", 0.0, {0, 1}, "");
+  law.rate_ref = m.real("rate_ref", 1.0, Range::positive(), "1/s");
+  return law;
+}
+
+Mesh read_mesh(CaseSection s, const std::string& body) {
+  const std::string shape = s.text("shape", std::nullopt, {"rectangle", "ring", "disk"});
+  Mesh mesh;
+  if (shape == "rectangle") {
+    RectangleSpec r;
+    r.x0 = s.real("x0", 0.0, Range::any(), "mm");
+    r.y0 = s.real("y0", 0.0, Range::any(), "mm");
+    r.width = s.real("width", std::nullopt, Range::positive(), "mm");
+    r.height = s.real("height", std::nullopt, Range::positive(), "mm");
+    r.nx = s.integer("nx", std::nullopt, 1, 100000);
+    r.ny = s.integer("ny", std::nullopt, 1, 100000);
+    mesh = make_rectangle(body, r);
+  } else if (shape == "ring") {
+    RingSpec r;
+    r.inner_radius = s.real("inner_radius", std::nullopt, Range::positive(), "mm");
+    r.outer_radius = s.real("outer_radius", std::nullopt, {r.inner_radius, INFINITY, true, false}, "mm");
+    r.y0 = s.real("y0", 0.0, Range::any(), "mm");
+    r.height = s.real("height", std::nullopt, Range::positive(), "mm");
+    r.nr = s.integer("nr", std::nullopt, 1, 100000);
+    r.ny = s.integer("ny", std::nullopt, 1, 100000);
+    mesh = make_ring(body, r);
+  } else {
+    DiskSpec d;
+    d.radius = s.real("radius", std::nullopt, Range::positive(), "mm");
+    d.center_y = s.real("center_y", 0.0, Range::any(), "mm");
+    const std::string part = s.text("part", "half", {"half", "upper_quarter", "lower_quarter"});
+    d.part = part == "half" ? DiskPart::Half : part == "upper_quarter" ? DiskPart::UpperQuarter : DiskPart::LowerQuarter;
+    d.n = s.integer("n", 8, 1, 10000);
+    d.layers = s.integer("layers", 8, 1, 10000);
+    mesh = make_disk(body, d);
+  }
+  return mesh;
+}
+
+}  // namespace
+
+Scene read_scene(CaseFile& file) {
+  Scene sc;
+  sc.file = file.path();
+  CaseSection root = file.root();
+  CaseSection run = root.required_table("run");
+  sc.name = run.text("name", std::filesystem::path(file.path()).stem().string());
+  sc.description = run.text("description", "");
+  const std::string geom = run.text("geometry", std::nullopt, {"axisymmetric", "plane_strain"});
+  sc.geometry = geom == "axisymmetric" ? Geometry::Axisymmetric : Geometry::PlaneStrain;
+  sc.formulation = run.text("formulation", "none");
+
+  CaseSection bodies = root.required_table("bodies");
+  if (bodies.keys().empty()) bodies.fail("", "at least one body is required");
+  for (const auto& name : bodies.keys()) {
+    CaseSection b = bodies.required_table(name);
+    BodySpec spec;
+    spec.name = name;
+    spec.law = read_material(b.required_table("material"), spec.material_name);
+    Mesh m = read_mesh(b.required_table("mesh"), name);
+    const MeshQuality q = mesh_quality(m);
+    if (!(q.min_scaled_jacobian > 0))
+      b.fail("mesh", "the generated mesh has an inverted or degenerate element (min scaled Jacobian " +
+                         std::to_string(q.min_scaled_jacobian) + ")");
+    if (sc.geometry == Geometry::Axisymmetric)
+      for (const auto& p : m.x)
+        if (p(0) < -1e-12) b.fail("mesh", "an axisymmetric body must lie at r >= 0");
+    sc.mesh.append(m);
+    sc.bodies.push_back(spec);
+    for (CaseSection v : b.table_array("velocity")) {
+      VelocityGroup g;
+      g.body = name;
+      g.side = name + "." + v.text("side", std::nullopt);
+      g.name = v.text("name", g.side);
+      if (!sc.mesh.sides.count(g.side)) v.fail("side", "no side '" + g.side + "' on this body's mesh");
+      g.vx = v.optional_real("vx", Range::any(), "mm/s");
+      g.vy = v.optional_real("vy", Range::any(), "mm/s");
+      if (!g.vx && !g.vy) v.fail("vx", "give vx, vy or both (mm/s)");
+      sc.velocities.push_back(g);
+    }
+    for (CaseSection t : b.table_array("traction")) {
+      TractionLoad l;
+      l.side = name + "." + t.text("side", std::nullopt);
+      if (!sc.mesh.sides.count(l.side)) t.fail("side", "no side '" + l.side + "' on this body's mesh");
+      l.pressure = t.real("pressure", 0.0, Range::any(), "MPa");
+      l.t = Vec2(t.real("tx", 0.0, Range::any(), "MPa"), t.real("ty", 0.0, Range::any(), "MPa"));
+      sc.tractions.push_back(l);
+    }
+  }
+
+  for (CaseSection s : root.table_array("symmetry")) {
+    SymmetryPlane p;
+    p.axis = s.text("normal", std::nullopt, {"x", "y"}) == "x" ? 0 : 1;
+    p.at = s.real("at", 0.0, Range::any(), "mm");
+    if (sc.geometry == Geometry::Axisymmetric && p.axis == 0)
+      s.fail("normal", "in axisymmetry the axis r = 0 is built in; only planes normal to 'y' (z) apply");
+    sc.symmetry.push_back(p);
+  }
+
+  CaseSection solver = root.section("solver");
+  sc.solver.alpha_relative = solver.real("alpha", 1e5, Range::positive(), "");
+  sc.solver.limit_rate_relative = solver.real("limit_strain_rate", 1e-3, Range::positive(), "");
+  sc.solver.regularization = solver.real("regularization", 0.0, Range::nonnegative(), "");
+  auto& nw = sc.solver.newton;
+  nw.tol_velocity = solver.real("tol_velocity", nw.tol_velocity, Range::positive(), "");
+  nw.tol_force = solver.real("tol_force", nw.tol_force, Range::positive(), "");
+  nw.max_iterations = solver.integer("max_iterations", nw.max_iterations, 1, 10000);
+  nw.direct_iterations = solver.integer("direct_iterations", nw.direct_iterations, 0, 100);
+  nw.max_halvings = solver.integer("line_search_halvings", nw.max_halvings, 0, 60);
+  const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "umfpack"});
+  sc.solver.linear_solver = ls == "cholmod" ? LinearSolverChoice::Cholmod
+                            : ls == "umfpack" ? LinearSolverChoice::Umfpack : LinearSolverChoice::Auto;
+
+  CaseSection st = root.required_table("stepping");
+  sc.stepping.end_stroke = st.real("end_stroke", std::nullopt, Range::positive(), "mm");
+  sc.stepping.stroke_increment = st.real("stroke_increment", std::nullopt, {0, sc.stepping.end_stroke, true, false}, "mm");
+  const std::string def_ref = sc.velocities.empty() ? std::string() : sc.velocities.front().name;
+  sc.stepping.reference = def_ref.empty() ? st.text("reference", std::nullopt) : st.text("reference", def_ref);
+  sc.stepping.max_cuts = st.integer("max_cuts", 6, 0, 30);
+  sc.stepping.output_every = st.integer("output_every", 1, 1, 1000000);
+  sc.stepping.integration =
+      st.text("integration", "euler", {"euler", "midpoint"}) == "midpoint" ? TimeIntegration::Midpoint
+                                                                          : TimeIntegration::Euler;
+  return sc;
+}
+
+}  // namespace rpfem

@@ -1,0 +1,41 @@
+// Sparse direct solves: CHOLMOD (supernodal LL^T) for a symmetric positive
+// definite tangent, UMFPACK (LU) for a nonsymmetric one (frictional contact)
+// or when Cholesky finds the matrix indefinite. The symbolic analysis is
+// reused while the sparsity pattern is unchanged.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "core/types.hpp"
+
+namespace rpfem {
+
+enum class LinearSolverChoice { Auto, Cholmod, Umfpack };
+
+struct LinearSolveStats {
+  int analyses = 0;          // symbolic analyses done
+  int factorizations = 0;
+  int cholesky_fallbacks = 0;  // Cholesky failed, UMFPACK used instead
+  double analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
+  std::string last_solver;   // "cholmod" or "umfpack"
+};
+
+class LinearSolver {
+ public:
+  explicit LinearSolver(LinearSolverChoice choice = LinearSolverChoice::Auto);
+  ~LinearSolver();
+  // Factorizes A; symmetric tells whether A is symmetric (then only CHOLMOD
+  // is tried under Auto). pattern_version identifies A's sparsity pattern.
+  // Returns false if A is singular.
+  bool factorize(const SpMat& A, bool symmetric, std::uint64_t pattern_version);
+  Vec solve(const Vec& b);
+  const LinearSolveStats& stats() const { return stats_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  LinearSolverChoice choice_;
+  LinearSolveStats stats_;
+};
+
+}  // namespace rpfem

@@ -1,0 +1,35 @@
+// Assembly of nodal element blocks into a fixed-pattern sparse matrix in the
+// reduced unknowns of a DofMap. The pattern is built once per layout (mesh,
+// constraints, contact couplings) and reused: assembly then only adds values,
+// and the linear solver keeps its symbolic factorization.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "core/types.hpp"
+#include "fem/dof_map.hpp"
+
+namespace rpfem {
+
+class SparseAssembler {
+ public:
+  // Every clique couples all unknowns of its nodes.
+  void build(const DofMap& dofs, const std::vector<std::array<Index, 4>>& quads,
+             const std::vector<std::vector<Index>>& extra_cliques);
+  // Incremented each time build() makes a new pattern.
+  std::uint64_t pattern_version() const { return version_; }
+
+  void set_zero();
+  // Adds the nodal block K (2k x 2k, column-major, global x/y components of
+  // nodes[0..k)) transformed to the nodes' frames: A += T^T K T.
+  void add(const Index* nodes, int k, const double* K);
+  SpMat& matrix() { return A_; }
+  const SpMat& matrix() const { return A_; }
+
+ private:
+  const DofMap* dofs_ = nullptr;
+  SpMat A_;
+  std::uint64_t version_ = 0;
+};
+
+}  // namespace rpfem

@@ -1,0 +1,42 @@
+// Structured quadrilateral meshes of the shapes the cases need. All are
+// built by one block mesher (blocks mapped from the unit square, coincident
+// nodes merged); boundary edges are the edges used by one element, named
+// "<body>.<side>" after the block face they lie on, and all of them are also
+// in "<body>.boundary".
+#pragma once
+#include <string>
+
+#include "mesh/mesh.hpp"
+
+namespace rpfem {
+
+struct RectangleSpec {
+  double x0 = 0, y0 = 0, width = 1, height = 1;
+  int nx = 10, ny = 10;
+};
+// Sides: bottom, right, top, left.
+Mesh make_rectangle(const std::string& body, const RectangleSpec& s);
+
+struct RingSpec {
+  double inner_radius = 1, outer_radius = 2, y0 = 0, height = 1;
+  int nr = 10, ny = 10;
+};
+// The r-z section of a ring. Sides: bottom, outer, top, inner.
+Mesh make_ring(const std::string& body, const RingSpec& s);
+
+enum class DiskPart { Half, UpperQuarter, LowerQuarter };
+struct DiskSpec {
+  double radius = 1;
+  double center_y = 0;
+  DiskPart part = DiskPart::Half;
+  int n = 8;       // divisions of the inner square's side
+  int layers = 8;  // divisions between the square and the arc
+};
+// The x >= 0 part of a disk centred at (0, center_y): the r-z section of a
+// sphere (half) or of its upper/lower half (quarter). An O-grid: an inner
+// quadrilateral and two blocks per quarter out to the arc, so no element
+// degenerates at the axis or the centre. Sides: arc, axis, and for quarters
+// plane (y = center_y).
+Mesh make_disk(const std::string& body, const DiskSpec& s);
+
+}  // namespace rpfem

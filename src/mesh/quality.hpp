@@ -1,0 +1,23 @@
+// Element quality: scaled Jacobian (sine of the worst corner angle: 1 for a
+// square, <= 0 for an inverted or degenerate element) and aspect ratio
+// (longest over shortest edge).
+#pragma once
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace rpfem {
+
+struct MeshQuality {
+  double min_scaled_jacobian = 1;
+  double max_aspect_ratio = 1;
+  Index worst_jacobian_element = -1;
+  Index worst_aspect_element = -1;
+  double min_area = 0;
+};
+
+MeshQuality mesh_quality(const Mesh& mesh);
+// The same on other node coordinates (the deformed configuration).
+MeshQuality mesh_quality(const Mesh& mesh, const std::vector<Vec2>& x);
+
+}  // namespace rpfem

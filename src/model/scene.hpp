@@ -1,0 +1,82 @@
+// A scene as the case file declares it, after validation: bodies, their
+// materials, meshes and boundary conditions, symmetry planes, solver and
+// stepping settings. Contact is described by the formulation's own section,
+// kept here unparsed for the formulation factory. Defaults: docs/case-format.md.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "fem/dof_map.hpp"
+#include "material/flow_stress.hpp"
+#include "mesh/mesh.hpp"
+#include "solver/newton.hpp"
+#include "la/linear_solver.hpp"
+
+namespace rpfem {
+
+// Prescribed velocity on the nodes of a boundary side; an absent component
+// is free (a platen that slides), both given is a glued platen.
+struct VelocityGroup {
+  std::string name;   // used for the load columns of history.csv
+  std::string body;
+  std::string side;   // "<body>.<side>"
+  std::optional<double> vx, vy;  // mm/s
+};
+
+// Surface traction on a side: pressure (MPa, positive pushes into the body)
+// along the current normal, plus a fixed vector (tx, ty) in MPa.
+struct TractionLoad {
+  std::string side;
+  double pressure = 0;
+  Vec2 t = Vec2::Zero();
+};
+
+struct SymmetryPlane {
+  int axis = 1;     // plane normal: 0 = x (r), 1 = y (z)
+  double at = 0.0;  // mm
+};
+
+struct BodySpec {
+  std::string name;
+  FlowStressLaw law;
+  std::string material_name;
+};
+
+struct SolverSpec {
+  double alpha_relative = 1e5;        // alpha = alpha_relative * sigma_ref / rate_ref
+  double limit_rate_relative = 1e-3;  // epsdot_lim = limit_rate_relative * rate_ref
+  double regularization = 0;          // viscous regularization, relative to sigma_y / rate_ref
+  NewtonSettings newton;
+  LinearSolverChoice linear_solver = LinearSolverChoice::Auto;
+};
+
+enum class TimeIntegration { Euler, Midpoint };
+
+struct SteppingSpec {
+  double stroke_increment = 0.1;  // mm per step of the reference motion
+  double end_stroke = 1.0;        // mm
+  std::string reference;          // velocity group (or die) whose travel is the stroke
+  int max_cuts = 6;               // halvings of a failing step
+  int output_every = 1;           // fields written every k steps (and the last)
+  TimeIntegration integration = TimeIntegration::Euler;
+};
+
+struct Scene {
+  std::string name;
+  std::string file;
+  std::string description;
+  Geometry geometry = Geometry::Axisymmetric;
+  Mesh mesh;  // all bodies, as generated
+  std::vector<BodySpec> bodies;
+  std::vector<VelocityGroup> velocities;
+  std::vector<TractionLoad> tractions;
+  std::vector<SymmetryPlane> symmetry;
+  SolverSpec solver;
+  SteppingSpec stepping;
+  std::string formulation = "none";  // default contact formulation of the scene
+  std::string used_parameters_json;  // every value used, defaults included
+};
+
+}  // namespace rpfem

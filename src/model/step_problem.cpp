@@ -1,0 +1,173 @@
+#include "model/step_problem.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+namespace {
+
+// Sinks for the contact terms.
+struct EnergySink : TermSink {
+  double total = 0;
+  void add(const Index*, int, double e, const double*, const double*) override { total += e; }
+};
+struct ForceSink : TermSink {
+  std::vector<Vec2>& F;
+  explicit ForceSink(std::vector<Vec2>& f) : F(f) {}
+  void add(const Index* nodes, int k, double, const double* g, const double*) override {
+    for (int a = 0; a < k; ++a) F[nodes[a]] += Vec2(g[2 * a], g[2 * a + 1]);
+  }
+};
+struct MatrixSink : TermSink {
+  SparseAssembler& A;
+  explicit MatrixSink(SparseAssembler& a) : A(a) {}
+  void add(const Index* nodes, int k, double, const double*, const double* H) override { A.add(nodes, k, H); }
+};
+
+}  // namespace
+
+StepProblem::StepProblem(const StepView& view, const std::vector<std::array<double, 4>>& strain,
+                         const std::vector<ElementMaterial>& materials, double epsdot_lim,
+                         const std::vector<Vec2>& external_force, ContactFormulation& contact,
+                         SolverWorkspace& ws)
+    : view_(view), strain_(strain), materials_(materials), epsdot_lim_(epsdot_lim),
+      fext_(external_force), contact_(contact), ws_(ws) {}
+
+void StepProblem::set_constraints(const std::vector<NodeConstraint>& constraints) {
+  const Mesh& m = *view_.mesh;
+  ws_.dofs = DofMap(m.num_nodes(), constraints);
+  std::vector<std::vector<Index>> couplings;
+  contact_.couplings(view_, couplings);
+  if (!ws_.has_pattern || ws_.layout != ws_.dofs.layout_hash() || couplings != ws_.couplings) {
+    ws_.assembler.build(ws_.dofs, m.quads, couplings);
+    ws_.couplings = std::move(couplings);
+    ws_.layout = ws_.dofs.layout_hash();
+    ws_.has_pattern = true;
+    ++ws_.pattern_builds;
+  }
+}
+
+RigidPlasticInput StepProblem::element_input(Index e, const std::vector<Vec2>& v) const {
+  const auto& q = view_.mesh->quads[e];
+  RigidPlasticInput in;
+  for (int a = 0; a < 4; ++a) {
+    in.X[a] = (*view_.x)[q[a]];
+    in.v.segment<2>(2 * a) = v[q[a]];
+  }
+  in.strain = strain_[e];
+  in.law = materials_[e].law;
+  in.alpha = materials_[e].alpha;
+  in.regularization = materials_[e].regularization;
+  in.geometry = view_.geometry;
+  in.epsdot_lim = epsdot_lim_;
+  in.viscous_floor = viscous_floor_;
+  return in;
+}
+
+double StepProblem::energy(const Vec& u) const {
+  std::vector<Vec2> v;
+  ws_.dofs.expand(u, v);
+  double e = 0;
+  for (Index el = 0; el < view_.mesh->num_elements(); ++el) e += rigid_plastic_energy(element_input(el, v));
+  for (std::size_t i = 0; i < v.size(); ++i) e -= fext_[i].dot(v[i]);
+  EnergySink sink;
+  contact_.add_terms(view_, v, sink);
+  return e + sink.total;
+}
+
+double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const {
+  F.assign(v.size(), Vec2::Zero());
+  ElementTerms t;
+  double scale2 = 0;
+  for (Index el = 0; el < view_.mesh->num_elements(); ++el) {
+    rigid_plastic_terms(element_input(el, v), Tangent::None, t);
+    const auto& q = view_.mesh->quads[el];
+    for (int a = 0; a < 4; ++a) F[q[a]] += t.grad.segment<2>(2 * a);
+    scale2 += t.grad.squaredNorm();
+  }
+  for (std::size_t i = 0; i < v.size(); ++i) F[i] -= fext_[i];
+  ForceSink sink(F);
+  contact_.add_terms(view_, v, sink);
+  return std::sqrt(scale2);
+}
+
+void StepProblem::residual(const Vec& u, Vec& R, double& scale) const {
+  std::vector<Vec2> v, F;
+  ws_.dofs.expand(u, v);
+  scale = nodal_forces(v, F);
+  R.setZero(ws_.dofs.num_free());
+  for (Index i = 0; i < ws_.dofs.num_nodes(); ++i) {
+    const NodeFrame& f = ws_.dofs.frame(i);
+    for (int k = 0; k < f.nfree; ++k) R(f.dof[k]) = f.T.col(k).dot(F[i]);
+  }
+}
+
+const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<Vec2> v;
+  ws_.dofs.expand(u, v);
+  ws_.assembler.set_zero();
+  ElementTerms t;
+  const Tangent kind = consistent ? Tangent::Consistent : Tangent::Secant;
+  for (Index el = 0; el < view_.mesh->num_elements(); ++el) {
+    rigid_plastic_terms(element_input(el, v), kind, t);
+    ws_.assembler.add(view_.mesh->quads[el].data(), 4, t.hess.data());
+  }
+  MatrixSink sink(ws_.assembler);
+  contact_.add_terms(view_, v, sink);
+  ws_.assembly_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return ws_.assembler.matrix();
+}
+
+bool StepProblem::solve(const Vec& u, bool consistent, const Vec& R, Vec& du) {
+  const SpMat& A = tangent(u, consistent);
+  if (!ws_.linear.factorize(A, contact_.tangent().symmetric, ws_.assembler.pattern_version())) return false;
+  du = ws_.linear.solve(-R);
+  return true;
+}
+
+void StepProblem::viscous_predictor(double rate, Vec& u) {
+  viscous_floor_ = rate;
+  Vec R, du;
+  double scale;
+  residual(u, R, scale);
+  const bool ok = solve(u, false, R, du);  // linear problem: one solve is exact
+  viscous_floor_ = 0;
+  if (ok && du.allFinite()) u += du;
+}
+
+NewtonSystem StepProblem::newton_system() {
+  NewtonSystem s;
+  if (contact_.tangent().potential) s.energy = [this](const Vec& u) { return energy(u); };
+  s.residual = [this](const Vec& u, Vec& R, double& scale) { residual(u, R, scale); };
+  s.solve = [this](const Vec& u, bool c, const Vec& R, Vec& du) { return solve(u, c, R, du); };
+  return s;
+}
+
+std::vector<Vec2> traction_forces(const Mesh& mesh, const std::vector<Vec2>& x, Geometry g,
+                                  const std::vector<TractionLoad>& loads) {
+  std::vector<Vec2> F(x.size(), Vec2::Zero());
+  for (const auto& load : loads) {
+    for (const Edge& e : mesh.sides.at(load.side)) {
+      const Vec2 xa = x[e.a], xb = x[e.b];
+      const Vec2 d = xb - xa;
+      const double L = d.norm();
+      const Vec2 n(d(1) / L, -d(0) / L);  // outward: body on the left of a -> b
+      const Vec2 t = load.t - load.pressure * n;
+      // int N_a dS: L/2 in plane strain; 2 pi L (2 r_a + r_b)/6 in axisymmetry.
+      double wa = 0.5 * L, wb = 0.5 * L;
+      if (g == Geometry::Axisymmetric) {
+        wa = 2 * kPi * L * (2 * xa(0) + xb(0)) / 6.0;
+        wb = 2 * kPi * L * (xa(0) + 2 * xb(0)) / 6.0;
+      }
+      F[e.a] += wa * t;
+      F[e.b] += wb * t;
+    }
+  }
+  return F;
+}
+
+}  // namespace rpfem

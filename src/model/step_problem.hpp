@@ -1,0 +1,85 @@
+// One step's discrete problem on the fixed current configuration: the
+// bodies' rigid-plastic functional (paper eq. 2) plus the contact
+// formulation's terms, in the reduced unknowns u of the step's DofMap.
+//
+//   Pi(u) = sum_e Pi_e(v(u)) - F_ext . v(u) + Pi_contact(v(u))
+//   R(u)  = T^T F(v),  F = dPi/dv (full nodal force; at a constrained node
+//           its constrained components are the reactions)
+#pragma once
+#include <array>
+#include <vector>
+
+#include "fem/dof_map.hpp"
+#include "fem/rigid_plastic_element.hpp"
+#include "la/linear_solver.hpp"
+#include "la/sparse_assembler.hpp"
+#include "model/contact_formulation.hpp"
+#include "solver/newton.hpp"
+
+namespace rpfem {
+
+struct ElementMaterial {
+  const FlowStressLaw* law = nullptr;
+  double alpha = 0;           // volumetric penalty, MPa s
+  double regularization = 0;  // s, see RigidPlasticInput::regularization
+};
+
+// Persists across steps so the pattern and symbolic factorization are reused.
+struct SolverWorkspace {
+  explicit SolverWorkspace(LinearSolverChoice c) : linear(c) {}
+  SparseAssembler assembler;
+  LinearSolver linear;
+  DofMap dofs;
+  std::vector<std::vector<Index>> couplings;
+  std::uint64_t layout = 0;
+  bool has_pattern = false;
+  int pattern_builds = 0;
+  double assembly_seconds = 0;
+};
+
+class StepProblem {
+ public:
+  StepProblem(const StepView& view, const std::vector<std::array<double, 4>>& strain,
+              const std::vector<ElementMaterial>& materials, double epsdot_lim,
+              const std::vector<Vec2>& external_force, ContactFormulation& contact, SolverWorkspace& ws);
+
+  // Installs the step's constraints (kernel's and formulation's) and the
+  // formulation's couplings; rebuilds the pattern only if they changed.
+  void set_constraints(const std::vector<NodeConstraint>& constraints);
+  const DofMap& dofs() const { return ws_.dofs; }
+
+  double energy(const Vec& u) const;
+  // Full nodal force F = dPi/dv at nodal velocities v; returns a force scale
+  // (norm of the element forces) for relative residuals.
+  double nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const;
+  void residual(const Vec& u, Vec& R, double& scale) const;
+  // Assembles the tangent (consistent or secant) at u into the workspace.
+  const SpMat& tangent(const Vec& u, bool consistent);
+  bool solve(const Vec& u, bool consistent, const Vec& R, Vec& du);
+  NewtonSystem newton_system();
+  const StepView& view() const { return view_; }
+  // Cold start: from u, one linear-viscous solve with the viscosity of the
+  // given rate everywhere (RigidPlasticInput::viscous_floor), the start of
+  // the Newton iteration when no previous velocity field exists.
+  void viscous_predictor(double rate, Vec& u);
+
+ private:
+  RigidPlasticInput element_input(Index e, const std::vector<Vec2>& v) const;
+
+  const StepView& view_;
+  const std::vector<std::array<double, 4>>& strain_;
+  const std::vector<ElementMaterial>& materials_;
+  double epsdot_lim_;
+  const std::vector<Vec2>& fext_;
+  ContactFormulation& contact_;
+  SolverWorkspace& ws_;
+  double viscous_floor_ = 0;
+};
+
+// Consistent nodal external forces of the tractions on the current
+// configuration: F_a = int N_a t dS (dS = 2 pi r ds in axisymmetry).
+struct TractionLoad;
+std::vector<Vec2> traction_forces(const Mesh& mesh, const std::vector<Vec2>& x, Geometry g,
+                                  const std::vector<TractionLoad>& loads);
+
+}  // namespace rpfem

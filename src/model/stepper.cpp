@@ -1,0 +1,309 @@
+#include "model/stepper.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/quality.hpp"
+#include "model/boundary.hpp"
+#include "model/step_problem.hpp"
+
+namespace rpfem {
+
+namespace {
+
+struct State {
+  std::vector<Vec2> x;
+  std::vector<std::array<double, 4>> strain;  // at the 2x2 points
+  double time = 0, stroke = 0;
+};
+
+struct Solution {
+  std::vector<Vec2> v, F;
+  std::vector<std::array<double, 4>> rate;  // effective strain rate at the 2x2 points
+  std::vector<ElementPost> post;
+  std::vector<double> flow_stress;
+  int iterations = 0, passes = 0;
+  double residual = 0;
+  std::vector<std::string> events;
+  std::string failure;  // empty when solved
+};
+
+class Runner {
+ public:
+  Runner(const Scene& s, ContactFormulation& c, StepObserver& o)
+      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver) {}
+
+  RunOutcome run();
+
+ private:
+  Solution solve(const State& st, const std::vector<Vec2>& guess, int step, double dt);
+  State advance(const State& st, const Solution& sol, double dt) const;
+  StepView view(const State& st, int step, double dt) const;
+  void record(const State& st, const Solution& sol, int step, double dt, int cuts);
+  RunOutcome finish();
+
+  const Scene& scene_;
+  ContactFormulation& contact_;
+  StepObserver& obs_;
+  SolverWorkspace ws_;
+  KernelConstraints bc_;
+  DerivedParameters derived_;
+  std::vector<ElementMaterial> materials_;
+  std::vector<double> flow_stress_;
+  RunOutcome out_;
+};
+
+StepView Runner::view(const State& st, int step, double dt) const {
+  StepView v;
+  v.mesh = &scene_.mesh;
+  v.x = &st.x;
+  v.flow_stress = &flow_stress_;
+  v.geometry = scene_.geometry;
+  v.time = st.time;
+  v.dt = dt;
+  v.step = step;
+  return v;
+}
+
+Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step, double dt) {
+  Solution sol;
+  const StepView sv = view(st, step, dt);
+  const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
+  StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
+  contact_.begin_step(sv);
+  std::vector<Vec2> v = guess;
+  const bool cold = std::all_of(guess.begin(), guess.end(), [](const Vec2& g) { return g.isZero(); });
+  constexpr int kMaxPasses = 50;
+  for (sol.passes = 1; sol.passes <= kMaxPasses; ++sol.passes) {
+    std::vector<NodeConstraint> cons = bc_.constraints;
+    contact_.constraints(sv, cons);
+    try {
+      problem.set_constraints(cons);
+    } catch (const std::invalid_argument& e) {
+      sol.failure = e.what();
+      return sol;
+    }
+    Vec u = problem.dofs().reduce(v);
+    if (cold && sol.passes == 1) problem.viscous_predictor(derived_.reference_strain_rate, u);
+    if (auto own = contact_.solve(sv, problem, u)) {
+      sol.iterations += own->iterations;
+      sol.residual = own->residual;
+      if (!own->converged) {
+        sol.failure = own->reason;
+        return sol;
+      }
+    } else {
+      const NewtonResult r = newton_solve(problem.newton_system(), scene_.solver.newton, u);
+      sol.iterations += r.iterations;
+      sol.residual = r.residual;
+      if (!r.converged) {
+        sol.failure = "Newton: " + r.reason;
+        return sol;
+      }
+    }
+    problem.dofs().expand(u, v);
+    problem.nodal_forces(v, sol.F);
+    StepCheck check = contact_.check(sv, v, sol.F);
+    sol.events.insert(sol.events.end(), check.events.begin(), check.events.end());
+    if (!check.resolve) break;
+  }
+  if (sol.passes > kMaxPasses) {
+    sol.failure = "contact state did not settle in " + std::to_string(kMaxPasses) + " passes";
+    return sol;
+  }
+  sol.v = std::move(v);
+  // Per element: strain rates for the strain update, recorded fields.
+  const Index ne = scene_.mesh.num_elements();
+  sol.rate.resize(ne);
+  sol.post.resize(ne);
+  sol.flow_stress.resize(ne);
+  for (Index e = 0; e < ne; ++e) {
+    RigidPlasticInput in;
+    const auto& q = scene_.mesh.quads[e];
+    for (int a = 0; a < 4; ++a) {
+      in.X[a] = st.x[q[a]];
+      in.v.segment<2>(2 * a) = sol.v[q[a]];
+    }
+    in.strain = st.strain[e];
+    in.law = materials_[e].law;
+    in.alpha = materials_[e].alpha;
+    in.regularization = materials_[e].regularization;
+    in.geometry = scene_.geometry;
+    in.epsdot_lim = derived_.limiting_strain_rate;
+    sol.post[e] = rigid_plastic_post(in);
+    sol.rate[e] = sol.post[e].strain_rate;
+    double mean_strain = 0;
+    for (double s : st.strain[e]) mean_strain += 0.25 * s;
+    sol.flow_stress[e] =
+        flow_point(*in.law, mean_strain, sol.post[e].strain_rate_mean, derived_.limiting_strain_rate).sigma;
+    for (double r : sol.rate[e])
+      if (!std::isfinite(r)) {
+        sol.failure = "non-finite strain rate";
+        return sol;
+      }
+  }
+  return sol;
+}
+
+State Runner::advance(const State& st, const Solution& sol, double dt) const {
+  State n = st;
+  for (std::size_t i = 0; i < n.x.size(); ++i) n.x[i] += dt * sol.v[i];
+  for (std::size_t e = 0; e < n.strain.size(); ++e)
+    for (int q = 0; q < 4; ++q) n.strain[e][q] += dt * sol.rate[e][q];
+  n.time += dt;
+  n.stroke += dt * derived_.reference_speed;
+  return n;
+}
+
+void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts) {
+  StepRecord r;
+  r.step = step;
+  r.time = st.time;
+  r.stroke = st.stroke;
+  r.dt = dt;
+  r.cuts = cuts;
+  r.newton_iterations = sol.iterations;
+  r.contact_passes = sol.passes;
+  r.residual = sol.residual;
+  r.x = st.x;
+  r.v = sol.v;
+  const Index ne = scene_.mesh.num_elements();
+  r.strain_rate.resize(ne);
+  r.strain.resize(ne);
+  r.mean_stress.resize(ne);
+  double volume = 0;
+  for (Index e = 0; e < ne; ++e) {
+    r.strain_rate[e] = sol.post[e].strain_rate_mean;
+    r.strain[e] = 0.25 * (st.strain[e][0] + st.strain[e][1] + st.strain[e][2] + st.strain[e][3]);
+    r.mean_stress[e] = sol.post[e].mean_stress;
+    volume += sol.post[e].volume;
+    for (double rate : sol.rate[e]) r.rigid_points += rate < derived_.limiting_strain_rate;
+  }
+  r.flow_stress = sol.flow_stress;
+  r.volume = volume * bc_.volume_factor;
+  const StepView sv = view(st, step, dt);
+  r.loads = bc_.group_loads(st.x, sol.F);
+  for (const Vec2& l : contact_.loads(sv, sol.F)) r.loads.push_back(l);
+  contact_.contact_forces(sv, sol.v, sol.F, r.contact_force);
+  r.contact_report = contact_.report();
+  r.events = sol.events;
+  r.min_scaled_jacobian = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
+  obs_.on_step(r);
+}
+
+RunOutcome Runner::finish() {
+  const LinearSolveStats& ls = ws_.linear.stats();
+  out_.assembly_seconds = ws_.assembly_seconds;
+  out_.analyze_seconds = ls.analyze_seconds;
+  out_.factor_seconds = ls.factor_seconds;
+  out_.solve_seconds = ls.solve_seconds;
+  out_.pattern_builds = ws_.pattern_builds;
+  out_.factorizations = ls.factorizations;
+  out_.cholesky_fallbacks = ls.cholesky_fallbacks;
+  return out_;
+}
+
+RunOutcome Runner::run() {
+  const Mesh& mesh = scene_.mesh;
+  State st;
+  st.x = mesh.x;
+  st.strain.assign(mesh.num_elements(), {0, 0, 0, 0});
+  bc_ = KernelConstraints(scene_);
+
+  // Scales: the reference motion's speed over the bodies' size.
+  const auto& ref = scene_.stepping.reference;
+  if (auto s = bc_.group_speed(ref)) derived_.reference_speed = *s;
+  else if (auto d = contact_.reference_speed(ref)) derived_.reference_speed = *d;
+  else throw InputError(scene_.file + ": key 'stepping.reference': '" + ref +
+                        "' names no prescribed velocity group or die of this scene");
+  if (!(derived_.reference_speed > 0))
+    throw InputError(scene_.file + ": key 'stepping.reference': the reference motion '" + ref + "' has zero speed");
+  derived_.reference_length = bc_.size;
+  derived_.reference_strain_rate = derived_.reference_speed / derived_.reference_length;
+  derived_.limiting_strain_rate = scene_.solver.limit_rate_relative * derived_.reference_strain_rate;
+  derived_.regularization = scene_.solver.regularization / derived_.reference_strain_rate;
+  for (const auto& b : scene_.bodies)
+    derived_.alpha.push_back(scene_.solver.alpha_relative * b.law.yield(0.0) / derived_.reference_strain_rate);
+  materials_.resize(mesh.num_elements());
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const int b = mesh.element_body[e];
+    materials_[e] = {&scene_.bodies[b].law, derived_.alpha[b], derived_.regularization};
+  }
+  flow_stress_.assign(mesh.num_elements(), 0.0);
+  for (Index e = 0; e < mesh.num_elements(); ++e) flow_stress_[e] = materials_[e].law->yield(0.0);
+  derived_.dt_nominal = scene_.stepping.stroke_increment / derived_.reference_speed;
+
+  std::vector<std::string> load_names = bc_.load_names();
+  for (const auto& n : contact_.load_names()) load_names.push_back(n);
+  obs_.on_start(derived_, load_names, contact_.report_names());
+
+  Solution sol = solve(st, std::vector<Vec2>(mesh.x.size(), Vec2::Zero()), 0, derived_.dt_nominal);
+  if (!sol.failure.empty()) {
+    out_.reason = "step 0 (initial configuration): " + sol.failure;
+    return finish();
+  }
+  flow_stress_ = sol.flow_stress;
+  record(st, sol, 0, 0.0, 0);
+  out_.total_newton_iterations += sol.iterations;
+
+  const double end = scene_.stepping.end_stroke;
+  const double eps = 1e-9 * std::max(end, 1.0);
+  for (int step = 1; st.stroke < end - eps; ++step) {
+    double dt = std::min(derived_.dt_nominal, (end - st.stroke) / derived_.reference_speed);
+    if (auto lim = contact_.limit_dt(view(st, step, dt), sol.v)) dt = std::min(dt, *lim);
+    int cuts = 0;
+    State next;
+    Solution next_sol;
+    std::vector<Vec2> moved_by;
+    for (;; ++cuts) {
+      std::string why;
+      const Solution* mover = &sol;
+      Solution mid;
+      if (scene_.stepping.integration == TimeIntegration::Midpoint) {
+        // Velocity at the half step moves the nodes: second order in dt.
+        State half = advance(st, sol, 0.5 * dt);
+        mid = solve(half, sol.v, step, dt);
+        if (mid.failure.empty()) mover = &mid;
+        else why = "midpoint solve: " + mid.failure;
+      }
+      if (why.empty()) {
+        next = advance(st, *mover, dt);
+        const double q = mesh_quality(mesh, next.x).min_scaled_jacobian;
+        if (!(q > 0)) why = "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
+      }
+      if (why.empty()) {
+        next_sol = solve(next, mover->v, step, dt);
+        why = next_sol.failure;
+      }
+      if (why.empty()) {
+        moved_by = mover->v;
+        break;
+      }
+      if (cuts == scene_.stepping.max_cuts) {
+        out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) +
+                      " mm failed after " + std::to_string(cuts) + " step halvings: " + why;
+        return finish();
+      }
+      obs_.on_retry(step, dt, why);
+      dt *= 0.5;
+    }
+    contact_.advance(view(st, step, dt), moved_by);
+    st = std::move(next);
+    sol = std::move(next_sol);
+    flow_stress_ = sol.flow_stress;
+    out_.total_newton_iterations += sol.iterations;
+    out_.total_cuts += cuts;
+    out_.steps = step;
+    record(st, sol, step, dt, cuts);
+  }
+  out_.finished = true;
+  return finish();
+}
+
+}  // namespace
+
+RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer) {
+  return Runner(scene, contact, observer).run();
+}
+
+}  // namespace rpfem

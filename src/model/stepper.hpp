@@ -1,0 +1,70 @@
+// Incremental quasi-static stepping, updated Lagrangian (Kobayashi, Oh,
+// Altan 1989, sec. 6.7): on the current configuration solve the velocity
+// field, then move the nodes by v dt and integrate the effective strain at
+// the integration points, eps += epsdot dt. Step 0 is the solve on the
+// initial configuration; every step records a configuration and the solution
+// on it. A failing step (Newton divergence, an inverted element) is redone
+// from the last accepted state with half the step, up to max_cuts times;
+// then the run stops, every finished step already recorded.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "model/contact_formulation.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+struct StepRecord {
+  int step = 0;
+  double time = 0, stroke = 0, dt = 0;  // s, mm, s (dt of the step that led here)
+  int cuts = 0;                         // halvings needed to reach this step
+  int newton_iterations = 0;            // incl. contact re-solves
+  int contact_passes = 0;               // solves of this configuration
+  double residual = 0;                  // relative force residual
+  std::vector<Vec2> x, v;               // mm, mm/s
+  std::vector<double> strain_rate, strain, mean_stress, flow_stress;  // per element
+  std::vector<Vec2> loads;              // N, whole body, per load_names entry
+  std::vector<Vec2> contact_force;      // N, per node
+  std::vector<double> contact_report;   // per formulation report_names entry
+  std::vector<std::string> events;
+  double volume = 0;                    // mm^3, whole body
+  double min_scaled_jacobian = 0;
+  int rigid_points = 0;                 // integration points below the limiting rate
+};
+
+// Values the run derived from the scene (recorded in the summary).
+struct DerivedParameters {
+  double reference_speed = 0;        // mm/s
+  double reference_length = 0;       // mm
+  double reference_strain_rate = 0;  // 1/s
+  double limiting_strain_rate = 0;   // 1/s
+  double regularization = 0;         // s
+  std::vector<double> alpha;         // MPa s, per body
+  double dt_nominal = 0;             // s
+};
+
+// The driver's side: it writes files and prints; the kernel does neither.
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  virtual void on_start(const DerivedParameters&, const std::vector<std::string>& load_names,
+                        const std::vector<std::string>& report_names) {}
+  virtual void on_step(const StepRecord&) = 0;
+  virtual void on_retry(int step, double dt, const std::string& why) {}
+};
+
+struct RunOutcome {
+  bool finished = false;
+  std::string reason;  // why the run stopped early
+  int steps = 0;       // recorded steps after step 0
+  int total_newton_iterations = 0;
+  int total_cuts = 0;
+  double assembly_seconds = 0, analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
+  int pattern_builds = 0, factorizations = 0, cholesky_fallbacks = 0;
+};
+
+RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer);
+
+}  // namespace rpfem

@@ -1,0 +1,74 @@
+#include "solver/newton.hpp"
+
+#include <cmath>
+
+namespace rpfem {
+
+NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec& u) {
+  NewtonResult out;
+  Vec R, du, Rtrial;
+  double scale = 1.0;
+  sys.residual(u, R, scale);
+  if (!(scale > 0) || !std::isfinite(scale)) scale = 1.0;
+  double energy = sys.energy ? sys.energy(u) : 0.0;
+  for (int it = 1; it <= s.max_iterations; ++it) {
+    out.iterations = it;
+    const double rnorm = R.norm();
+    if (!std::isfinite(rnorm)) {
+      out.reason = "residual is not finite";
+      return out;
+    }
+    if (!sys.solve(u, it > s.direct_iterations, R, du)) {
+      out.reason = "tangent matrix is singular";
+      return out;
+    }
+    if (!du.allFinite()) {
+      out.reason = "correction is not finite";
+      return out;
+    }
+    // Line search.
+    const double slope = R.dot(du);
+    const bool use_energy = sys.energy && slope < 0;
+    double step = 1.0;
+    Vec trial;
+    double trial_energy = 0, trial_scale = scale;
+    bool accepted = false;
+    for (int h = 0; h <= s.max_halvings; ++h) {
+      trial = u + step * du;
+      sys.residual(trial, Rtrial, trial_scale);
+      if (use_energy) {
+        trial_energy = sys.energy(trial);
+        accepted = std::isfinite(trial_energy) && trial_energy <= energy + s.armijo * step * slope;
+      } else {
+        accepted = Rtrial.allFinite() && Rtrial.norm() <= (1.0 - s.armijo * step) * rnorm;
+      }
+      if (accepted) break;
+      step *= 0.5;
+      ++out.halvings;
+    }
+    if (!accepted) {
+      // Take the smallest step anyway if it is finite: convergence is still
+      // judged by the criteria below and the iteration limit.
+      if (!Rtrial.allFinite()) {
+        out.reason = "line search produced a non-finite residual";
+        return out;
+      }
+    }
+    u = trial;
+    R = Rtrial;
+    if (trial_scale > 0 && std::isfinite(trial_scale)) scale = trial_scale;
+    if (use_energy) energy = trial_energy;
+    else if (sys.energy) energy = sys.energy(u);
+    out.correction = step * du.norm() / std::max(u.norm(), 1e-300);
+    out.residual = R.norm() / scale;
+    if (it > s.direct_iterations && out.correction <= s.tol_velocity && out.residual <= s.tol_force) {
+      out.converged = true;
+      return out;
+    }
+  }
+  out.reason = "no convergence in " + std::to_string(s.max_iterations) + " iterations (residual " +
+               std::to_string(out.residual) + ")";
+  return out;
+}
+
+}  // namespace rpfem

@@ -1,0 +1,49 @@
+// Newton-Raphson with a backtracking line search, reused by composition
+// (after DOLFINx's NewtonSolver): the caller hands in callbacks for the
+// functional, the residual/tangent assembly and the linear solve.
+//
+// Iteration k solves K du = -R. The first `direct_iterations` use the secant
+// matrix (direct iteration, Kobayashi, Oh, Altan 1989, sec. 6.6) so Newton
+// starts from a usable field. The step length s halves until
+//   Pi(u + s du) <= Pi(u) + c s R.du   (Armijo, when a potential exists), or
+//   |R(u + s du)| <= (1 - c s) |R(u)|   (otherwise).
+// Converged when |du| <= tol_velocity |u| and |R| <= tol_force F_scale.
+#pragma once
+#include <functional>
+#include <string>
+
+#include "core/types.hpp"
+
+namespace rpfem {
+
+struct NewtonSettings {
+  double tol_velocity = 1e-8;
+  double tol_force = 1e-7;
+  int max_iterations = 40;
+  int direct_iterations = 1;
+  double armijo = 1e-4;
+  int max_halvings = 12;
+};
+
+struct NewtonSystem {
+  // Pi(u); empty when the problem has no potential (residual line search).
+  std::function<double(const Vec& u)> energy;
+  // Residual R(u) and the force scale used for the relative residual.
+  std::function<void(const Vec& u, Vec& R, double& force_scale)> residual;
+  // Assembles the tangent at u (secant if !consistent), factorizes it and
+  // solves K du = -R into du; false if the factorization failed.
+  std::function<bool(const Vec& u, bool consistent, const Vec& R, Vec& du)> solve;
+};
+
+struct NewtonResult {
+  bool converged = false;
+  int iterations = 0;
+  int halvings = 0;            // line-search step cuts in total
+  double residual = 0;         // |R| / F_scale at exit
+  double correction = 0;       // |du| / |u| of the last iteration
+  std::string reason;          // why it stopped when not converged
+};
+
+NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec& u);
+
+}  // namespace rpfem

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Requirement (kernel issue, item 5): bad input gives a one-line error naming
+# the file and key, and exit code 2.
+set -u
+rpfem=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+expect() {  # expect NAME PATTERN -- command...
+  local name=$1 pattern=$2; shift 3
+  local err rc
+  err=$("$@" 2>&1 >/dev/null); rc=$?
+  local lines; lines=$(printf '%s\n' "$err" | grep -c .)
+  if [ "$rc" -ne 2 ] || [ "$lines" -ne 1 ] || ! printf '%s' "$err" | grep -q -- "$pattern"; then
+    echo "FAIL $name: exit $rc, $lines line(s): $err"; fail=1
+  else
+    echo "ok   $name: $err"
+  fi
+}
+base=$src/cases/upsetting_frictionless_axisym.toml
+expect missing-file "no such case file" -- "$rpfem" run "$tmp/nope.toml" --out "$tmp/o1"
+printf '[run\ngeometry = "axisymmetric"\n' > "$tmp/bad.toml"
+expect malformed "malformed TOML" -- "$rpfem" run "$tmp/bad.toml" --out "$tmp/o2"
+sed 's/^nx = 20/nx = 20\nnxx = 3/' "$base" > "$tmp/unknown.toml"
+expect unknown-key "unknown key 'bodies.billet.mesh.nxx'" -- "$rpfem" run "$tmp/unknown.toml" --out "$tmp/o3"
+sed 's/^library = "AISI1035".*/K = -3.0\nn = 0.2/' "$base" > "$tmp/negk.toml"
+expect negative-K "bodies.billet.material.K': expected a positive number" -- "$rpfem" run "$tmp/negk.toml" --out "$tmp/o4"
+expect zero-height "bodies.billet.mesh.height': expected a positive number" -- "$rpfem" run "$base" --out "$tmp/o5" --set bodies.billet.mesh.height=0.0
+expect bad-formulation "formulation 'nonsense' is unknown" -- "$rpfem" run "$base" --out "$tmp/o6" --formulation nonsense
+expect bad-set "--set" -- "$rpfem" run "$base" --out "$tmp/o7" --set nonsense
+exit $fail

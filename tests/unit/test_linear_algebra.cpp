@@ -1,0 +1,134 @@
+// Nodal frames and elimination, fixed-pattern assembly, the sparse direct
+// solvers, and the Newton solver on a problem with a known minimizer.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fem/dof_map.hpp"
+#include "la/linear_solver.hpp"
+#include "la/sparse_assembler.hpp"
+#include "solver/newton.hpp"
+
+using namespace rpfem;
+
+TEST(DofMap, RotatedFrameKeepsTangentFree) {
+  const Vec2 n = Vec2(1, 1).normalized();
+  DofMap d(3, {{0, Vec2(1, 0), 2.0}, {0, Vec2(0, 1), -1.0}, {1, n, 0.5}});
+  EXPECT_EQ(d.frame(0).nfree, 0);
+  EXPECT_EQ(d.frame(1).nfree, 1);
+  EXPECT_EQ(d.frame(2).nfree, 2);
+  EXPECT_EQ(d.num_free(), 3);
+  Vec u(3);
+  u << 0.7, -0.2, 0.4;
+  EXPECT_NEAR((d.velocity(0, u) - Vec2(2, -1)).norm(), 0, 1e-15);
+  EXPECT_NEAR(d.velocity(1, u).dot(n), 0.5, 1e-15);  // the constraint holds for any u
+  std::vector<Vec2> v;
+  d.expand(u, v);
+  EXPECT_NEAR((d.reduce(v) - u).norm(), 0, 1e-14);
+}
+
+TEST(DofMap, RejectsConflicts) {
+  EXPECT_THROW(DofMap(1, {{0, Vec2(1, 0), 1.0}, {0, Vec2(-1, 0), 1.0}}), std::invalid_argument);
+  EXPECT_NO_THROW(DofMap(1, {{0, Vec2(1, 0), 1.0}, {0, Vec2(-1, 0), -1.0}}));  // the same, restated
+  EXPECT_THROW(DofMap(1, {{0, Vec2(1, 0), 0.0}, {0, Vec2(0, 1), 0.0}, {0, Vec2(1, 1), 0.0}}),
+               std::invalid_argument);
+}
+
+TEST(SparseAssembler, MatchesDenseTransformedAssembly) {
+  // Two quads sharing an edge; node 1 in a rotated frame, node 0 fixed.
+  std::vector<std::array<Index, 4>> quads{{0, 1, 2, 3}, {1, 4, 5, 2}};
+  const Vec2 n = Vec2(0.6, 0.8);
+  DofMap d(6, {{0, Vec2(1, 0), 0}, {0, Vec2(0, 1), 0}, {1, n, 0}});
+  SparseAssembler A;
+  A.build(d, quads, {});
+  Eigen::Matrix<double, 8, 8> K1 = Eigen::Matrix<double, 8, 8>::Random(), K2 = Eigen::Matrix<double, 8, 8>::Random();
+  A.add(quads[0].data(), 4, K1.data());
+  A.add(quads[1].data(), 4, K2.data());
+  // Dense reference: T (12 x nfree) with K = sum scatter, A = T^T K T.
+  Eigen::MatrixXd Kfull = Eigen::MatrixXd::Zero(12, 12), T = Eigen::MatrixXd::Zero(12, d.num_free());
+  auto scatter = [&](const std::array<Index, 4>& q, const Eigen::Matrix<double, 8, 8>& K) {
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) Kfull.block<2, 2>(2 * q[a], 2 * q[b]) += K.block<2, 2>(2 * a, 2 * b);
+  };
+  scatter(quads[0], K1);
+  scatter(quads[1], K2);
+  for (Index i = 0; i < 6; ++i)
+    for (int k = 0; k < d.frame(i).nfree; ++k) T.block<2, 1>(2 * i, d.frame(i).dof[k]) = d.frame(i).T.col(k);
+  const Eigen::MatrixXd ref = T.transpose() * Kfull * T;
+  EXPECT_LT((Eigen::MatrixXd(A.matrix()) - ref).norm(), 1e-12 * ref.norm());
+  const auto v0 = A.pattern_version();
+  A.build(d, quads, {{0, 5}});
+  EXPECT_GT(A.pattern_version(), v0);
+}
+
+TEST(LinearSolver, CholmodAndUmfpackSolve) {
+  const int n = 50;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, i, 4.0);
+    if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -1.0);
+  }
+  SpMat A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  const Vec b = Vec::LinSpaced(n, 1, 2);
+  LinearSolver s;
+  ASSERT_TRUE(s.factorize(A, true, 1));
+  EXPECT_EQ(s.stats().last_solver, "cholmod");
+  EXPECT_LT((A * s.solve(b) - b).norm(), 1e-12);
+  ASSERT_TRUE(s.factorize(A, true, 1));
+  EXPECT_EQ(s.stats().analyses, 1);  // symbolic analysis reused
+  SpMat N = A;
+  N.coeffRef(0, 1) = -2.0;  // nonsymmetric
+  ASSERT_TRUE(s.factorize(N, false, 1));
+  EXPECT_EQ(s.stats().last_solver, "umfpack");
+  EXPECT_LT((N * s.solve(b) - b).norm(), 1e-12);
+  // Indefinite but symmetric: Cholesky fails, LU takes over.
+  SpMat I = A;
+  I.coeffRef(3, 3) = -4.0;
+  ASSERT_TRUE(s.factorize(I, true, 1));
+  EXPECT_EQ(s.stats().cholesky_fallbacks, 1);
+  EXPECT_LT((I * s.solve(b) - b).norm(), 1e-10);
+}
+
+TEST(Newton, ConvergesQuadraticallyFromAPoorStart) {
+  // Pi(u) = sum sqrt(1 + u_i^2) - c.u (convex, minimizer u_i = c_i/sqrt(1-c_i^2)).
+  const int n = 4;
+  Vec c(n);
+  c << 0.3, -0.5, 0.9, 0.1;
+  NewtonSystem sys;
+  sys.energy = [&](const Vec& u) { return (1 + u.array().square()).sqrt().sum() - c.dot(u); };
+  sys.residual = [&](const Vec& u, Vec& R, double& s) {
+    R = (u.array() / (1 + u.array().square()).sqrt()).matrix() - c;
+    s = c.norm();
+  };
+  sys.solve = [&](const Vec& u, bool, const Vec& R, Vec& du) {
+    du = (-R.array() * (1 + u.array().square()).pow(1.5)).matrix();
+    return true;
+  };
+  Vec u = Vec::Constant(n, 30.0);  // plain Newton diverges from here
+  NewtonSettings s;
+  s.direct_iterations = 0;
+  s.tol_velocity = 1e-12;
+  s.tol_force = 1e-12;
+  const NewtonResult r = newton_solve(sys, s, u);
+  ASSERT_TRUE(r.converged) << r.reason;
+  EXPECT_GT(r.halvings, 0);
+  EXPECT_LE(r.iterations, 30);
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(u(i), c(i) / std::sqrt(1 - c(i) * c(i)), 1e-10);
+}
+
+TEST(Newton, ReportsNonFiniteResidual) {
+  NewtonSystem sys;
+  sys.residual = [](const Vec& u, Vec& R, double& s) {
+    R = Vec::Constant(1, std::nan(""));
+    s = 1;
+  };
+  sys.solve = [](const Vec&, bool, const Vec&, Vec& du) {
+    du = Vec::Ones(1);
+    return true;
+  };
+  Vec u = Vec::Zero(1);
+  const NewtonResult r = newton_solve(sys, NewtonSettings{}, u);
+  EXPECT_FALSE(r.converged);
+  EXPECT_FALSE(r.reason.empty());
+}

@@ -1,0 +1,166 @@
+#include "mms.hpp"
+
+#include <cmath>
+
+#include "fem/quad4.hpp"
+#include "mesh/generate.hpp"
+#include "model/step_problem.hpp"
+#include "none/none_formulation.hpp"
+
+namespace rpfem {
+
+namespace {
+
+constexpr double kA = 1.0, kEps = 0.02, kK = 100.0;  // 1/s, -, MPa
+constexpr double k1 = kPi, c1 = 0.3, k2 = 1.3 * kPi, c2 = 0.5;
+
+// S(x) T(y) and derivatives.
+struct Wave {
+  double S, S1, S2, T, T1, T2;
+};
+Wave wave(double x, double y) {
+  return {std::sin(k1 * x + c1), k1 * std::cos(k1 * x + c1), -k1 * k1 * std::sin(k1 * x + c1),
+          std::sin(k2 * y + c2), k2 * std::cos(k2 * y + c2), -k2 * k2 * std::sin(k2 * y + c2)};
+}
+
+struct Exact {
+  Vec2 v;
+  Eigen::Matrix2d grad;  // grad(i, j) = d v_i / d x_j
+};
+
+Exact exact(Geometry g, const Vec2& p) {
+  const double x = p(0), y = p(1);
+  const Wave w = wave(x, y);
+  Exact e;
+  if (g == Geometry::PlaneStrain) {
+    // psi = a x y + eps S T; v = (psi_y, -psi_x).
+    e.v = Vec2(kA * x + kEps * w.S * w.T1, -kA * y - kEps * w.S1 * w.T);
+    e.grad << kA + kEps * w.S1 * w.T1, kEps * w.S * w.T2, -kEps * w.S2 * w.T, -kA - kEps * w.S1 * w.T1;
+  } else {
+    // psi = r^2 phi, phi = -a z/2 + eps S(r) T(z); v_r = -r phi_z, v_z = 2 phi + r phi_r.
+    const double r = x;
+    const double phi = -0.5 * kA * y + kEps * w.S * w.T, phr = kEps * w.S1 * w.T, phz = -0.5 * kA + kEps * w.S * w.T1;
+    const double phrr = kEps * w.S2 * w.T, phrz = kEps * w.S1 * w.T1, phzz = kEps * w.S * w.T2;
+    e.v = Vec2(-r * phz, 2 * phi + r * phr);
+    e.grad << -phz - r * phrz, -r * phzz, 3 * phr + r * phrr, 2 * phz + r * phrz;
+  }
+  return e;
+}
+
+// Deviatoric stress (s_11, s_22, s_33, s_12) of the exact field.
+Eigen::Vector4d stress(Geometry g, const Vec2& p) {
+  const Exact e = exact(g, p);
+  Eigen::Vector4d eps(e.grad(0, 0), e.grad(1, 1), g == Geometry::Axisymmetric ? e.v(0) / p(0) : 0.0,
+                      e.grad(0, 1) + e.grad(1, 0));
+  const double rate = std::sqrt(eps.dot(effective_rate_metric() * eps));
+  const double tr = eps(0) + eps(1) + eps(2);
+  const double c = (2.0 / 3.0) * kK / rate;
+  return {c * (eps(0) - tr / 3), c * (eps(1) - tr / 3), c * (eps(2) - tr / 3), 0.5 * c * eps(3)};
+}
+
+// f = -div s (Cartesian, or cylindrical with the hoop terms).
+Vec2 body_force(Geometry g, const Vec2& p) {
+  const double h = 1e-5;
+  const Vec2 dx(h, 0), dy(0, h);
+  const Eigen::Vector4d sxp = stress(g, p + dx), sxm = stress(g, p - dx), syp = stress(g, p + dy),
+                        sym = stress(g, p - dy);
+  Vec2 div((sxp(0) - sxm(0)) / (2 * h) + (syp(3) - sym(3)) / (2 * h),
+           (sxp(3) - sxm(3)) / (2 * h) + (syp(1) - sym(1)) / (2 * h));
+  if (g == Geometry::Axisymmetric) {
+    const Eigen::Vector4d s = stress(g, p);
+    div += Vec2((s(0) - s(2)) / p(0), s(3) / p(0));
+  }
+  return -div;
+}
+
+constexpr double kG3[3] = {-0.77459666924148337704, 0.0, 0.77459666924148337704};
+constexpr double kW3[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+
+}  // namespace
+
+MmsResult run_mms(Geometry g, int n) {
+  RectangleSpec spec;
+  spec.nx = spec.ny = n;
+  const Mesh mesh = make_rectangle("mms", spec);
+  FlowStressLaw law;
+  law.K = kK;
+  law.n = 0.0;
+  std::vector<ElementMaterial> mats(mesh.num_elements(), ElementMaterial{&law, 1e7 * kK / kA});
+  std::vector<std::array<double, 4>> strain(mesh.num_elements(), {0, 0, 0, 0});
+  std::vector<double> flow(mesh.num_elements(), kK);
+  StepView view;
+  view.mesh = &mesh;
+  view.x = &mesh.x;
+  view.flow_stress = &flow;
+  view.geometry = g;
+
+  // Nodal body forces.
+  std::vector<Vec2> fext(mesh.x.size(), Vec2::Zero());
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    Quad4Coords X;
+    for (int a = 0; a < 4; ++a) X[a] = mesh.x[mesh.quads[e][a]];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const Quad4Point p = quad4_point(X, kG3[i], kG3[j]);
+        Vec2 xp = Vec2::Zero();
+        for (int a = 0; a < 4; ++a) xp += p.N(a) * X[a];
+        const Vec2 f = body_force(g, xp);
+        const double w = volume_weight(p, g, kW3[i] * kW3[j]);
+        for (int a = 0; a < 4; ++a) fext[mesh.quads[e][a]] += w * p.N(a) * f;
+      }
+  }
+  std::vector<NodeConstraint> cons;
+  for (Index i : mesh.side_nodes("mms.boundary")) {
+    const Vec2 v = exact(g, mesh.x[i]).v;
+    cons.push_back({i, Vec2(1, 0), v(0)});
+    cons.push_back({i, Vec2(0, 1), v(1)});
+  }
+  NoContact none;
+  SolverWorkspace ws(LinearSolverChoice::Auto);
+  StepProblem problem(view, strain, mats, 1e-6 * kA, fext, none, ws);
+  problem.set_constraints(cons);
+  Vec u = Vec::Zero(problem.dofs().num_free());
+  problem.viscous_predictor(kA, u);
+  NewtonSettings ns;
+  ns.tol_velocity = 1e-12;
+  ns.tol_force = 1e-9;  // the round-off floor is ~2e-10 at n = 32
+  ns.max_iterations = 60;
+  const NewtonResult nr = newton_solve(problem.newton_system(), ns, u);
+  std::vector<Vec2> v;
+  problem.dofs().expand(u, v);
+
+  double err2 = 0, ref2 = 0;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    Quad4Coords X;
+    for (int a = 0; a < 4; ++a) X[a] = mesh.x[mesh.quads[e][a]];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const Quad4Point p = quad4_point(X, kG3[i], kG3[j]);
+        Vec2 xp = Vec2::Zero(), vh = Vec2::Zero();
+        for (int a = 0; a < 4; ++a) {
+          xp += p.N(a) * X[a];
+          vh += p.N(a) * v[mesh.quads[e][a]];
+        }
+        const Vec2 ve = exact(g, xp).v;
+        const double w = volume_weight(p, g, kW3[i] * kW3[j]);
+        err2 += w * (vh - ve).squaredNorm();
+        ref2 += w * ve.squaredNorm();
+      }
+  }
+  MmsResult r;
+  r.n = n;
+  r.h = 1.0 / n;
+  r.l2_error = std::sqrt(err2 / ref2);
+  r.newton_iterations = nr.iterations;
+  r.converged = nr.converged;
+  return r;
+}
+
+std::vector<double> observed_orders(const std::vector<MmsResult>& r) {
+  std::vector<double> p;
+  for (std::size_t i = 1; i < r.size(); ++i)
+    p.push_back(std::log(r[i - 1].l2_error / r[i].l2_error) / std::log(r[i - 1].h / r[i].h));
+  return p;
+}
+
+}  // namespace rpfem

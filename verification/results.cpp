@@ -1,0 +1,88 @@
+#include "results.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace rpfem {
+
+const std::vector<double>& History::at(const std::string& col) const {
+  auto it = data.find(col);
+  if (it == data.end()) throw std::runtime_error("history.csv has no column '" + col + "'");
+  return it->second;
+}
+
+History read_history(const std::string& csv_path) {
+  std::ifstream in(csv_path);
+  if (!in) throw std::runtime_error("cannot open " + csv_path);
+  History h;
+  std::string line, cell;
+  std::getline(in, line);
+  std::stringstream hs(line);
+  while (std::getline(hs, cell, ',')) h.columns.push_back(cell);
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::stringstream ls(line);
+    for (const auto& c : h.columns) {
+      if (!std::getline(ls, cell, ',')) throw std::runtime_error(csv_path + ": short row");
+      h.data[c].push_back(std::stod(cell));
+    }
+  }
+  return h;
+}
+
+namespace {
+struct H5File {
+  hid_t id;
+  explicit H5File(const std::string& p) : id(H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT)) {
+    if (id < 0) throw std::runtime_error("cannot open " + p);
+  }
+  ~H5File() { H5Fclose(id); }
+};
+}  // namespace
+
+std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset,
+                                    std::vector<unsigned long long>* shape) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  H5File f(h5_path);
+  const hid_t d = H5Dopen2(f.id, dataset.c_str(), H5P_DEFAULT);
+  if (d < 0) throw std::runtime_error(h5_path + ": no dataset " + dataset);
+  const hid_t s = H5Dget_space(d);
+  const int rank = H5Sget_simple_extent_ndims(s);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 0)));
+  H5Sget_simple_extent_dims(s, dims.data(), nullptr);
+  std::size_t n = 1;
+  for (auto x : dims) n *= x;
+  std::vector<double> out(n);
+  const herr_t st = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  H5Sclose(s);
+  H5Dclose(d);
+  if (st < 0) throw std::runtime_error(h5_path + ": cannot read " + dataset);
+  if (shape) shape->assign(dims.begin(), dims.end());
+  return out;
+}
+
+std::vector<int> read_h5_steps(const std::string& h5_path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  H5File f(h5_path);
+  const hid_t g = H5Gopen2(f.id, "/steps", H5P_DEFAULT);
+  if (g < 0) throw std::runtime_error(h5_path + ": no /steps group");
+  std::vector<int> steps;
+  H5Literate(
+      g, H5_INDEX_NAME, H5_ITER_INC, nullptr,
+      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+        const std::string s(name);
+        if (!s.empty() && std::all_of(s.begin(), s.end(), ::isdigit))
+          static_cast<std::vector<int>*>(data)->push_back(std::stoi(s));
+        return 0;
+      },
+      &steps);
+  H5Gclose(g);
+  std::sort(steps.begin(), steps.end());
+  return steps;
+}
+
+}  // namespace rpfem
