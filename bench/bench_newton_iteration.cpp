@@ -1,0 +1,130 @@
+// Cost of one Newton iteration of the kernel against the bare sparse direct
+// solve, for meshes of about 1e3, 1e4 and 1e5 unknowns (kernel issue item 4).
+//
+//   build/bench/rpfem_bench --benchmark_counters_tabular=true
+//
+// BM_Assembly: residual + consistent tangent. BM_FactorSolve: CHOLMOD
+// numeric factorization + solve of the same matrix (symbolic analysis
+// reused, as in the runs). BM_NewtonIteration: what newton_solve does per
+// iteration: tangent, factorization, solve, and one line-search trial
+// (residual + energy). Counter peak_rss_MB: the process's peak memory.
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "mesh/generate.hpp"
+#include "model/step_problem.hpp"
+#include "none/none_formulation.hpp"
+
+using namespace rpfem;
+
+namespace {
+
+struct Fixture {
+  Mesh mesh;
+  FlowStressLaw law{900.0, 0.17, 0.02, 0.0, 1.0};
+  std::vector<ElementMaterial> mats;
+  std::vector<std::array<double, 4>> strain;
+  std::vector<double> flow;
+  std::vector<Vec2> fext;
+  StepView view;
+  NoContact none;
+  SolverWorkspace ws{LinearSolverChoice::Auto};
+  std::unique_ptr<StepProblem> problem;
+  Vec u;
+
+  explicit Fixture(int n) {
+    RectangleSpec s;
+    s.width = 10;
+    s.height = 10;
+    s.nx = s.ny = n;
+    mesh = make_rectangle("b", s);
+    mats.assign(mesh.num_elements(), ElementMaterial{&law, 1e5 * 900.0 / 0.1});
+    strain.assign(mesh.num_elements(), {0.1, 0.1, 0.1, 0.1});
+    flow.assign(mesh.num_elements(), 900.0);
+    fext.assign(mesh.x.size(), Vec2::Zero());
+    view.mesh = &mesh;
+    view.x = &mesh.x;
+    view.flow_stress = &flow;
+    view.geometry = Geometry::Axisymmetric;
+    problem = std::make_unique<StepProblem>(view, strain, mats, 1e-4, fext, none, ws);
+    std::vector<NodeConstraint> cons;
+    for (Index i : mesh.side_nodes("b.top")) cons.push_back({i, Vec2(0, 1), -1.0});
+    for (Index i : mesh.side_nodes("b.bottom")) cons.push_back({i, Vec2(0, 1), 0.0});
+    for (Index i : mesh.side_nodes("b.left")) cons.push_back({i, Vec2(1, 0), 0.0});
+    problem->set_constraints(cons);
+    // A non-uniform field, so every element has its own state.
+    std::vector<Vec2> v(mesh.x.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const Vec2& x = mesh.x[i];
+      v[i] = Vec2(0.05 * x(0) * (1 + 0.1 * std::sin(x(1))), -0.1 * x(1));
+    }
+    u = problem->dofs().reduce(v);
+    const SpMat& A = problem->tangent(u, true);
+    ws.linear.factorize(A, true, ws.assembler.pattern_version());  // symbolic analysis once
+  }
+};
+
+Fixture& fixture(int n) {
+  static std::map<int, std::unique_ptr<Fixture>> cache;
+  auto& f = cache[n];
+  if (!f) f = std::make_unique<Fixture>(n);
+  return *f;
+}
+
+void counters(benchmark::State& state, const Fixture& f) {
+  rusage r;
+  getrusage(RUSAGE_SELF, &r);
+  state.counters["unknowns"] = static_cast<double>(f.u.size());
+  state.counters["nnz"] = static_cast<double>(f.ws.assembler.matrix().nonZeros());
+  state.counters["peak_rss_MB"] = r.ru_maxrss / 1024.0;
+}
+
+void BM_Assembly(benchmark::State& state) {
+  Fixture& f = fixture(static_cast<int>(state.range(0)));
+  Vec R;
+  double scale;
+  for (auto _ : state) {
+    f.problem->residual(f.u, R, scale);
+    benchmark::DoNotOptimize(f.problem->tangent(f.u, true).nonZeros());
+  }
+  counters(state, f);
+}
+
+void BM_FactorSolve(benchmark::State& state) {
+  Fixture& f = fixture(static_cast<int>(state.range(0)));
+  const SpMat& A = f.problem->tangent(f.u, true);
+  const Vec b = Vec::Ones(f.u.size());
+  for (auto _ : state) {
+    f.ws.linear.factorize(A, true, f.ws.assembler.pattern_version());
+    benchmark::DoNotOptimize(f.ws.linear.solve(b).data());
+  }
+  counters(state, f);
+}
+
+void BM_NewtonIteration(benchmark::State& state) {
+  Fixture& f = fixture(static_cast<int>(state.range(0)));
+  Vec R, du;
+  double scale;
+  f.problem->residual(f.u, R, scale);
+  for (auto _ : state) {
+    f.problem->solve(f.u, true, R, du);
+    const Vec trial = f.u + du;
+    f.problem->residual(trial, R, scale);
+    benchmark::DoNotOptimize(f.problem->energy(trial));
+  }
+  counters(state, f);
+}
+
+// n x n elements: 2 (n+1)^2 - constraints ~ 1e3, 1e4, 1e5 unknowns.
+#define SIZES ->Arg(22)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond)
+BENCHMARK(BM_Assembly) SIZES;
+BENCHMARK(BM_FactorSolve) SIZES;
+BENCHMARK(BM_NewtonIteration) SIZES;
+
+}  // namespace
+
+BENCHMARK_MAIN();
