@@ -1,5 +1,6 @@
 #include "factory.hpp"
 
+#include "direct/direct_formulation.hpp"
 #include "none/none_formulation.hpp"
 
 namespace rpfem {
@@ -7,12 +8,23 @@ namespace rpfem {
 const std::vector<FormulationInfo>& formulations() {
   static const std::vector<FormulationInfo> list{
       {"none", "no contact: platens as prescribed velocities, tractions, symmetry planes"},
+      {"direct", "rigid dies as kinematic constraints (ALPID): exact normal velocity, free sliding"},
   };
   return list;
 }
 
 std::unique_ptr<ContactFormulation> make_formulation(const std::string& name, CaseFile& file, const Scene& scene) {
-  if (name == "none") return std::make_unique<NoContact>();
+  // Each formulation reads [formulations.<name>]; the others' sections are
+  // known keys that this run does not use.
+  CaseSection all = file.root().section("formulations");
+  for (const auto& f : formulations())
+    if (f.name != name) all.ignore(f.name);
+  if (name == "none") {
+    if (!scene.contact_pairs.empty())
+      throw InputError(file.path() + ": the scene declares contact pairs; formulation 'none' treats no contact");
+    return std::make_unique<NoContact>();
+  }
+  if (name == "direct") return std::make_unique<DirectContact>(scene, all.section("direct"));
   std::string known;
   for (const auto& f : formulations()) known += (known.empty() ? "" : ", ") + f.name;
   throw InputError(file.path() + ": formulation '" + name + "' is unknown; expected one of: " + known);

@@ -133,6 +133,10 @@ void CaseSection::fail(const std::string& key, const std::string& expected) cons
 
 bool CaseSection::has(const std::string& key) const { return t_->contains(key); }
 
+void CaseSection::ignore(const std::string& key) {
+  if (has(key)) file_->visited_.insert(full(key));
+}
+
 std::vector<std::string> CaseSection::keys() const {
   std::vector<std::string> k;
   for (auto&& [name, v] : *t_) k.emplace_back(name.str());

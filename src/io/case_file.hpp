@@ -47,6 +47,9 @@ class CaseSection {
   CaseSection section(const std::string& key);
   std::vector<CaseSection> table_array(const std::string& key);
   std::vector<std::string> keys() const;
+  // Marks a subtree as known without reading it (another formulation's
+  // settings when this run uses a different one).
+  void ignore(const std::string& key);
   [[noreturn]] void fail(const std::string& key, const std::string& expected) const;
 
  private:

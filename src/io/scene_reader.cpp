@@ -1,5 +1,6 @@
 #include "io/scene_reader.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "mesh/generate.hpp"
@@ -126,6 +127,61 @@ Scene read_scene(CaseFile& file) {
     sc.symmetry.push_back(p);
   }
 
+  if (auto dies = root.table("dies")) {
+    for (const auto& name : dies->keys()) {
+      CaseSection d = dies->required_table(name);
+      Die die;
+      die.name = name;
+      std::vector<Vec2> vertices;
+      std::vector<double> fillets;
+      for (CaseSection v : d.table_array("vertex")) {
+        vertices.emplace_back(v.real("x", std::nullopt, Range::any(), "mm"), v.real("y", std::nullopt, Range::any(), "mm"));
+        fillets.push_back(v.real("fillet", 0.0, Range::nonnegative(), "mm"));
+      }
+      if (vertices.size() < 2) d.fail("vertex", "a die needs at least two [[dies." + name + ".vertex]] entries");
+      try {
+        die.profile = DieProfile(vertices, fillets);
+      } catch (const std::invalid_argument& e) {
+        d.fail("vertex", e.what());
+      }
+      const bool table = d.has("velocity_table");
+      if (table) {
+        std::vector<std::array<double, 3>> rows;
+        for (CaseSection r : d.table_array("velocity_table"))
+          rows.push_back({r.real("t", std::nullopt, Range::nonnegative(), "s"), r.real("vx", 0.0, Range::any(), "mm/s"),
+                          r.real("vy", 0.0, Range::any(), "mm/s")});
+        try {
+          die.motion = DieMotion(rows);
+        } catch (const std::invalid_argument& e) {
+          d.fail("velocity_table", e.what());
+        }
+      } else {
+        die.motion = DieMotion(Vec2(d.real("vx", 0.0, Range::any(), "mm/s"), d.real("vy", 0.0, Range::any(), "mm/s")));
+      }
+      sc.dies.push_back(die);
+    }
+  }
+  for (CaseSection c : root.table_array("contact_pairs")) {
+    ContactPair p;
+    p.body = c.text("body", std::nullopt);
+    if (!bodies.has(p.body)) c.fail("body", "no body named '" + p.body + "'");
+    const std::string sides = c.text("sides", "boundary");
+    for (std::size_t a = 0, b; a <= sides.size(); a = b + 1) {
+      b = sides.find(',', a);
+      if (b == std::string::npos) b = sides.size();
+      std::string side = sides.substr(a, b - a);
+      side.erase(0, side.find_first_not_of(' '));
+      side.erase(side.find_last_not_of(' ') + 1);
+      const std::string full = p.body + "." + side;
+      if (!sc.mesh.sides.count(full)) c.fail("sides", "no side '" + full + "' on the mesh");
+      p.sides.push_back(full);
+    }
+    p.die = c.text("die", std::nullopt);
+    if (std::none_of(sc.dies.begin(), sc.dies.end(), [&](const Die& d) { return d.name == p.die; }))
+      c.fail("die", "no die named '" + p.die + "'");
+    sc.contact_pairs.push_back(p);
+  }
+
   CaseSection solver = root.section("solver");
   sc.solver.alpha_relative = solver.real("alpha", 1e5, Range::positive(), "");
   sc.solver.limit_rate_relative = solver.real("limit_strain_rate", 1e-3, Range::positive(), "");
@@ -143,7 +199,9 @@ Scene read_scene(CaseFile& file) {
   CaseSection st = root.required_table("stepping");
   sc.stepping.end_stroke = st.real("end_stroke", std::nullopt, Range::positive(), "mm");
   sc.stepping.stroke_increment = st.real("stroke_increment", std::nullopt, {0, sc.stepping.end_stroke, true, false}, "mm");
-  const std::string def_ref = sc.velocities.empty() ? std::string() : sc.velocities.front().name;
+  const std::string def_ref = !sc.velocities.empty() ? sc.velocities.front().name
+                              : !sc.dies.empty()      ? sc.dies.front().name
+                                                      : std::string();
   sc.stepping.reference = def_ref.empty() ? st.text("reference", std::nullopt) : st.text("reference", def_ref);
   sc.stepping.max_cuts = st.integer("max_cuts", 6, 0, 30);
   sc.stepping.output_every = st.integer("output_every", 1, 1, 1000000);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "geometry/die.hpp"
 #include "fem/dof_map.hpp"
 #include "material/flow_stress.hpp"
 #include "mesh/mesh.hpp"
@@ -36,6 +37,13 @@ struct TractionLoad {
 struct SymmetryPlane {
   int axis = 1;     // plane normal: 0 = x (r), 1 = y (z)
   double at = 0.0;  // mm
+};
+
+// Which boundary sides of a body may touch which die.
+struct ContactPair {
+  std::string body;
+  std::vector<std::string> sides;  // "<body>.<side>"
+  std::string die;
 };
 
 struct BodySpec {
@@ -73,10 +81,11 @@ struct Scene {
   std::vector<VelocityGroup> velocities;
   std::vector<TractionLoad> tractions;
   std::vector<SymmetryPlane> symmetry;
+  std::vector<Die> dies;
+  std::vector<ContactPair> contact_pairs;
   SolverSpec solver;
   SteppingSpec stepping;
   std::string formulation = "none";  // default contact formulation of the scene
-  std::string used_parameters_json;  // every value used, defaults included
 };
 
 }  // namespace rpfem

@@ -19,7 +19,10 @@ using namespace rpfem;
 namespace {
 
 std::string run_case(const std::string& name, const std::string& extra = "") {
-  const std::string out = (std::filesystem::temp_directory_path() / ("rpfem_accept_" + name)).string();
+  // One folder per test: ctest runs tests in parallel.
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string out =
+      (std::filesystem::temp_directory_path() / ("rpfem_accept_" + std::string(info->name()))).string();
   std::filesystem::remove_all(out);
   const std::string cmd = std::string(RPFEM_BINARY) + " run " + RPFEM_SOURCE_DIR + "/cases/" + name +
                           ".toml --out " + out + " --quiet " + extra;
@@ -42,12 +45,12 @@ FlowStressLaw aisi1035(bool rate_sensitive) {
   return l;
 }
 
-void check_run(const std::string& dir, bool axisymmetric) {
+void check_run(const std::string& dir, bool axisymmetric, const std::string& load = "top_platen.Fy") {
   const double H0 = 20, D0 = 20;
   const History h = read_history(dir + "/history.csv");
   ASSERT_GT(h.rows(), 50u);
   const auto& stroke = h.at("stroke");
-  const auto& Fy = h.at("top_platen.Fy");
+  const auto& Fy = h.at(load);
   const auto& dv = h.at("volume_change");
   double worst_load = 0, worst_volume = 0;
   for (std::size_t i = 0; i < h.rows(); ++i) {
@@ -94,4 +97,34 @@ TEST(Upsetting, FrictionlessAxisymmetricMatchesExact) {
 
 TEST(Upsetting, FrictionlessPlaneStrainMatchesExact) {
   check_run(run_case("upsetting_frictionless_plane"), false);
+}
+
+// Requirement (direct formulation issue, item 1): frictionless flat dies
+// reproduce the exact homogeneous result through the contact machinery.
+TEST(Upsetting, FrictionlessFlatDieThroughContactMatchesExact) {
+  const std::string dir = run_case("upsetting_dies_frictionless_axisym");
+  check_run(dir, true, "top_die.Fy");
+  const History h = read_history(dir + "/history.csv");
+  for (double p : h.at("max_penetration")) EXPECT_LE(p, 1e-6 * 20.0);
+  for (double n : h.at("contact_nodes")) EXPECT_EQ(n, 21.0);  // the whole top face, no release
+}
+
+// A die that starts 0.1 mm above the billet: the step is shortened so the
+// top nodes land on the die (touch mid-step), then the load follows the
+// exact homogeneous one.
+TEST(Upsetting, DieTouchesMidStep) {
+  const std::string dir = run_case("upsetting_dies_frictionless_axisym",
+                                   "--set dies.top_die.vertex.0.y=10.1 --set dies.top_die.vertex.1.y=10.1 "
+                                   "--set stepping.stroke_increment=0.3 --set stepping.end_stroke=0.7");
+  const History h = read_history(dir + "/history.csv");
+  const auto& stroke = h.at("stroke");
+  const auto& contacts = h.at("contact_nodes");
+  ASSERT_GE(h.rows(), 3u);
+  EXPECT_EQ(contacts[0], 0.0);
+  EXPECT_NEAR(stroke[1], 0.1, 1e-9);  // the step was cut to the touch
+  EXPECT_EQ(contacts[1], 21.0);
+  for (double p : h.at("max_penetration")) EXPECT_LE(p, 1e-6 * 20.0);
+  const double H = 20.0 - 2 * (stroke.back() - 0.1);
+  FlowStressLaw l = aisi1035(false);
+  EXPECT_NEAR(-h.at("top_die.Fy").back() / upsetting_load_axisymmetric(l, 20.0, 20.0, H), 1.0, 5e-3);
 }
