@@ -36,7 +36,10 @@ void DirectContact::begin_step(const StepView& v) {
   for (auto& c : cand_) {
     c.proj = scene_.dies[c.die].project((*v.x)[c.node], v.time);
     // Touch: a free node on (or, by round-off, just inside) the die.
-    if (!c.in_contact && c.proj.distance <= touch_tol_) c.in_contact = true;
+    if (!c.in_contact && c.proj.distance <= touch_tol_) {
+      c.in_contact = true;
+      touches_.push_back("touch node " + std::to_string(c.node) + " on die " + scene_.dies[c.die].name);
+    }
     max_penetration_ = std::max(max_penetration_, -c.proj.distance);
   }
 }
@@ -53,6 +56,7 @@ void DirectContact::constraints(const StepView& v, std::vector<NodeConstraint>& 
 
 StepCheck DirectContact::check(const StepView& v, const std::vector<Vec2>&, const std::vector<Vec2>& F) {
   StepCheck out;
+  out.events.swap(touches_);
   double scale = 0;
   for (const auto& c : cand_)
     if (c.in_contact) scale = std::max(scale, std::abs(F[c.node].dot(c.proj.normal)));

@@ -48,6 +48,7 @@ class DirectContact final : public ContactFormulation {
   double release_tol_ = 0;  // N, relative part of the force scale
   double sym_tol_ = 0;
   double max_penetration_ = 0;
+  std::vector<std::string> touches_;  // found by begin_step, reported by check
   int contacts_ = 0;
 };
 

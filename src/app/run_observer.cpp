@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 namespace rpfem {
@@ -46,6 +47,8 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
     cols.push_back(c);
   for (const auto& n : report_names) cols.push_back(n);
   history_ = std::make_unique<HistoryWriter>(dir_ + "/history.csv", cols);
+  events_path_ = dir_ + "/events.csv";
+  std::ofstream(events_path_, std::ios::trunc) << "step,time,event\n";
   write_summary();
 }
 
@@ -64,6 +67,10 @@ void RunObserver::on_step(const StepRecord& r) {
     row.push_back(v);
   row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());
   history_->write_row(row);
+  if (!r.events.empty()) {
+    std::ofstream ev(events_path_, std::ios::app);
+    for (const auto& e : r.events) ev << r.step << "," << r.time << "," << e << "\n";
+  }
   if (r.step % scene_.stepping.output_every == 0) {
     StepFields f;
     f.step = r.step;

@@ -33,6 +33,7 @@ class RunObserver final : public StepObserver {
   bool quiet_;
   std::unique_ptr<ResultWriter> writer_;
   std::unique_ptr<HistoryWriter> history_;
+  std::string events_path_;
   std::vector<std::string> load_names_;
   std::chrono::steady_clock::time_point t0_;
   double initial_volume_ = 0, max_volume_change_ = 0, min_quality_ = 1;

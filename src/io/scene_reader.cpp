@@ -145,6 +145,7 @@ Scene read_scene(CaseFile& file) {
         d.fail("vertex", e.what());
       }
       const bool table = d.has("velocity_table");
+      if (table && (d.has("vx") || d.has("vy"))) d.fail("velocity_table", "give vx/vy or velocity_table, not both");
       if (table) {
         std::vector<std::array<double, 3>> rows;
         for (CaseSection r : d.table_array("velocity_table"))

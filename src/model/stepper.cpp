@@ -277,6 +277,9 @@ RunOutcome Runner::run() {
       }
       if (why.empty()) {
         moved_by = mover->v;
+        // Contact events found by the half-step solve belong to this step.
+        next_sol.events.insert(next_sol.events.begin(), mid.events.begin(), mid.events.end());
+        next_sol.iterations += mid.iterations;
         break;
       }
       if (cuts == scene_.stepping.max_cuts) {

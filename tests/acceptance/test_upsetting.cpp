@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "analytic.hpp"
 #include "core/types.hpp"
@@ -17,6 +18,16 @@
 using namespace rpfem;
 
 namespace {
+
+std::string run_file(const std::string& path, const std::string& extra) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string out =
+      (std::filesystem::temp_directory_path() / ("rpfem_accept_" + std::string(info->name()))).string();
+  std::filesystem::remove_all(out);
+  const std::string cmd = std::string(RPFEM_BINARY) + " run " + path + " --out " + out + " --quiet " + extra;
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  return out;
+}
 
 std::string run_case(const std::string& name, const std::string& extra = "") {
   // One folder per test: ctest runs tests in parallel.
@@ -127,4 +138,29 @@ TEST(Upsetting, DieTouchesMidStep) {
   const double H = 20.0 - 2 * (stroke.back() - 0.1);
   FlowStressLaw l = aisi1035(false);
   EXPECT_NEAR(-h.at("top_die.Fy").back() / upsetting_load_axisymmetric(l, 20.0, 20.0, H), 1.0, 5e-3);
+}
+
+// A die that presses, then pulls away: every contact node is released under
+// tension (logged in events.csv), and the free billet stops.
+TEST(Upsetting, DieReleasesNodesUnderTension) {
+  std::ifstream in(std::string(RPFEM_SOURCE_DIR) + "/cases/upsetting_dies_frictionless_axisym.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "vy = -1.0   # mm/s";
+  ASSERT_NE(text.find(from), std::string::npos);
+  text.replace(text.find(from), from.size(), "");
+  text += "\n[[dies.top_die.velocity_table]]\nt = 0.0\nvy = -1.0\n[[dies.top_die.velocity_table]]\nt = 0.3\nvy = -1.0\n"
+          "[[dies.top_die.velocity_table]]\nt = 0.31\nvy = 1.0\n";
+  const std::string path = (std::filesystem::temp_directory_path() / "rpfem_release_case.toml").string();
+  std::ofstream(path) << text;
+  const std::string dir = run_file(path, "--set stepping.end_stroke=0.6 --set stepping.stroke_increment=0.1");
+  const History h = read_history(dir + "/history.csv");
+  const auto& contacts = h.at("contact_nodes");
+  EXPECT_EQ(contacts.front(), 21.0);
+  EXPECT_EQ(contacts.back(), 0.0);
+  EXPECT_NEAR(h.at("top_die.Fy").back(), 0.0, 1e-9);
+  std::ifstream ev(dir + "/events.csv");
+  std::string line;
+  int releases = 0;
+  while (std::getline(ev, line)) releases += line.find("release node") != std::string::npos;
+  EXPECT_EQ(releases, 21);
 }
