@@ -9,6 +9,19 @@ namespace rpfem {
 
 namespace {
 toml::array pair(const Vec2& v) { return toml::array{v(0), v(1)}; }
+StepFields fields(const StepRecord& r) {
+  StepFields f;
+  f.step = r.step;
+  f.time = r.time;
+  f.stroke = r.stroke;
+  f.x = &r.x;
+  f.v = &r.v;
+  f.strain_rate = &r.strain_rate;
+  f.strain = &r.strain;
+  f.mean_stress = &r.mean_stress;
+  f.element_scalars["flow_stress"] = r.flow_stress;
+  return f;
+}
 std::string to_json(const toml::table& t) {
   std::ostringstream os;
   os << toml::json_formatter{t};
@@ -72,17 +85,7 @@ void RunObserver::on_step(const StepRecord& r) {
     for (const auto& e : r.events) ev << r.step << "," << r.time << "," << e << "\n";
   }
   if (r.step % scene_.stepping.output_every == 0) {
-    StepFields f;
-    f.step = r.step;
-    f.time = r.time;
-    f.stroke = r.stroke;
-    f.x = &r.x;
-    f.v = &r.v;
-    f.strain_rate = &r.strain_rate;
-    f.strain = &r.strain;
-    f.mean_stress = &r.mean_stress;
-    f.element_scalars["flow_stress"] = r.flow_stress;
-    writer_->write_step(f);
+    writer_->write_step(fields(r));
     last_field_step_ = r.step;
   }
   last_ = r;
@@ -112,17 +115,7 @@ void RunObserver::write_summary() {
 
 std::string RunObserver::finish(const RunOutcome& out) {
   if (last_field_step_ != last_step_ && last_.x.size()) {
-    StepFields f;
-    f.step = last_.step;
-    f.time = last_.time;
-    f.stroke = last_.stroke;
-    f.x = &last_.x;
-    f.v = &last_.v;
-    f.strain_rate = &last_.strain_rate;
-    f.strain = &last_.strain;
-    f.mean_stress = &last_.mean_stress;
-    f.element_scalars["flow_stress"] = last_.flow_stress;
-    writer_->write_step(f);
+    writer_->write_step(fields(last_));
   }
   summary_.insert_or_assign("status", out.finished ? "finished" : "stopped");
   if (!out.finished) summary_.insert_or_assign("reason", out.reason);

@@ -58,14 +58,14 @@ class StepProblem {
   bool solve(const Vec& u, bool consistent, const Vec& R, Vec& du);
   NewtonSystem newton_system();
   const StepView& view() const { return view_; }
+  // Element e's data at nodal velocities v (for post-processing).
+  RigidPlasticInput element_input(Index e, const std::vector<Vec2>& v) const;
   // Cold start: from u, one linear-viscous solve with the viscosity of the
   // given rate everywhere (RigidPlasticInput::viscous_floor), the start of
   // the Newton iteration when no previous velocity field exists.
   void viscous_predictor(double rate, Vec& u);
 
  private:
-  RigidPlasticInput element_input(Index e, const std::vector<Vec2>& v) const;
-
   const StepView& view_;
   const std::vector<std::array<double, 4>>& strain_;
   const std::vector<ElementMaterial>& materials_;

@@ -118,18 +118,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   sol.post.resize(ne);
   sol.flow_stress.resize(ne);
   for (Index e = 0; e < ne; ++e) {
-    RigidPlasticInput in;
-    const auto& q = scene_.mesh.quads[e];
-    for (int a = 0; a < 4; ++a) {
-      in.X[a] = st.x[q[a]];
-      in.v.segment<2>(2 * a) = sol.v[q[a]];
-    }
-    in.strain = st.strain[e];
-    in.law = materials_[e].law;
-    in.alpha = materials_[e].alpha;
-    in.regularization = materials_[e].regularization;
-    in.geometry = scene_.geometry;
-    in.epsdot_lim = derived_.limiting_strain_rate;
+    const RigidPlasticInput in = problem.element_input(e, sol.v);
     sol.post[e] = rigid_plastic_post(in);
     sol.rate[e] = sol.post[e].strain_rate;
     double mean_strain = 0;
