@@ -22,6 +22,11 @@ std::vector<Index> Mesh::side_nodes(const std::string& side) const {
 }
 
 void Mesh::append(const Mesh& o) {
+  // Side names carry the body name: a second body of the same name would
+  // silently merge its sides into the first one's.
+  for (const auto& name : o.body_names)
+    if (std::find(body_names.begin(), body_names.end(), name) != body_names.end())
+      throw InputError("duplicate body name '" + name + "'");
   const Index dn = num_nodes(), de = num_elements();
   const int db = num_bodies();
   x.insert(x.end(), o.x.begin(), o.x.end());

@@ -1,7 +1,9 @@
 #include "mesh/quality.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 namespace rpfem {
 
@@ -9,28 +11,36 @@ MeshQuality mesh_quality(const Mesh& mesh) { return mesh_quality(mesh, mesh.x); 
 
 MeshQuality mesh_quality(const Mesh& mesh, const std::vector<Vec2>& x) {
   MeshQuality q;
-  q.min_area = INFINITY;
+  if (mesh.quads.empty()) return q;
+  q.min_scaled_jacobian = std::numeric_limits<double>::infinity();
+  q.max_aspect_ratio = 0;
+  q.min_area = std::numeric_limits<double>::infinity();
   for (Index e = 0; e < mesh.num_elements(); ++e) {
     const auto& n = mesh.quads[e];
-    double sj = INFINITY, lmin = INFINITY, lmax = 0, area = 0;
+    // Edge k runs from node k to node k + 1; corner k lies between edges
+    // k - 1 and k, its Jacobian is cross(edge k, -edge k-1).
+    std::array<Vec2, 4> d;
+    std::array<double, 4> len;
     for (int k = 0; k < 4; ++k) {
-      const Vec2 p = x[n[k]], e1 = x[n[(k + 1) % 4]] - p, e2 = x[n[(k + 3) % 4]] - p;
-      const double l1 = e1.norm(), l2 = e2.norm();
-      const double cross = e1(0) * e2(1) - e1(1) * e2(0);
-      sj = std::min(sj, l1 > 0 && l2 > 0 ? cross / (l1 * l2) : -1.0);
-      lmin = std::min(lmin, l1);
-      lmax = std::max(lmax, l1);
-      area += 0.5 * (p(0) * x[n[(k + 1) % 4]](1) - x[n[(k + 1) % 4]](0) * p(1));
+      d[k] = x[n[(k + 1) % 4]] - x[n[k]];
+      len[k] = d[k].norm();
     }
-    if (sj < q.min_scaled_jacobian || q.worst_jacobian_element < 0) {
-      q.min_scaled_jacobian = sj;
-      q.worst_jacobian_element = e;
+    double sj = std::numeric_limits<double>::infinity(), area = 0;
+    for (int k = 0; k < 4; ++k) {
+      const Vec2& p = d[(k + 3) % 4];
+      const double det = p(0) * d[k](1) - p(1) * d[k](0);
+      const double l = len[k] * len[(k + 3) % 4];
+      sj = std::min(sj, l > 0 ? det / l : -1.0);  // a collapsed edge counts as inverted
+      const Vec2& xk = x[n[k]];
+      area += 0.5 * (xk(0) * d[k](1) - xk(1) * d[k](0));  // shoelace
     }
-    const double ar = lmin > 0 ? lmax / lmin : INFINITY;
-    if (ar > q.max_aspect_ratio || q.worst_aspect_element < 0) {
-      q.max_aspect_ratio = ar;
-      q.worst_aspect_element = e;
-    }
+    // Non-finite coordinates (a diverged update) must not pass as good.
+    if (!std::isfinite(area)) sj = -std::numeric_limits<double>::infinity();
+    const double lmin = *std::min_element(len.begin(), len.end());
+    const double ar = lmin > 0 ? *std::max_element(len.begin(), len.end()) / lmin
+                               : std::numeric_limits<double>::infinity();
+    if (sj < q.min_scaled_jacobian) q.min_scaled_jacobian = sj, q.worst_jacobian_element = e;
+    if (ar > q.max_aspect_ratio) q.max_aspect_ratio = ar, q.worst_aspect_element = e;
     q.min_area = std::min(q.min_area, area);
   }
   return q;

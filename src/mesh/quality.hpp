@@ -1,6 +1,6 @@
-// Element quality: scaled Jacobian (sine of the worst corner angle: 1 for a
-// square, <= 0 for an inverted or degenerate element) and aspect ratio
-// (longest over shortest edge).
+// Element quality, cheap enough to check every step: scaled Jacobian (the
+// sine of the worst corner angle: 1 for a square, <= 0 for an inverted or
+// degenerate element) and aspect ratio (longest over shortest edge).
 #pragma once
 #include <vector>
 
@@ -11,9 +11,9 @@ namespace rpfem {
 struct MeshQuality {
   double min_scaled_jacobian = 1;
   double max_aspect_ratio = 1;
-  Index worst_jacobian_element = -1;
+  Index worst_jacobian_element = -1;  // -1 for an empty mesh
   Index worst_aspect_element = -1;
-  double min_area = 0;
+  double min_area = 0;  // smallest signed element area (mm^2)
 };
 
 MeshQuality mesh_quality(const Mesh& mesh);
