@@ -22,3 +22,13 @@ double upsetting_load_plane_strain(const FlowStressLaw& law, double w0, double H
 }
 
 }  // namespace rpfem
+
+namespace rpfem {
+
+double slab_upsetting_pressure_ratio(double m, double R, double H) {
+  return 1 + 2 * m * R / (3 * std::sqrt(3.0) * H);
+}
+
+double ring_inner_diameter_change_frictionless(double H0, double H) { return std::sqrt(H0 / H) - 1; }
+
+}  // namespace rpfem

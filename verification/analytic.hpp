@@ -20,3 +20,20 @@ double upsetting_load_plane_strain(const FlowStressLaw& law, double w0, double H
 double upsetting_strain_plane_strain(double H0, double H);
 
 }  // namespace rpfem
+
+namespace rpfem {
+
+// Slab-method average die pressure over the flow stress for a cylinder of
+// radius R and full height H upset with friction factor m (Kobayashi, Oh,
+// Altan 1989, sec. 4.3; Avitzur): p_avg / sigma_bar = 1 + 2 m R / (3 sqrt(3) H).
+// It assumes homogeneous deformation with friction along the whole face
+// (no barrelling, no sticking zone).
+double slab_upsetting_pressure_ratio(double m, double R, double H);
+
+// Ring compression with frictionless dies (homogeneous deformation, volume
+// conserved): every radius scales as sqrt(H0/H), so the inner diameter
+// changes by sqrt(H0/H) - 1 (a fraction; the "1 - sqrt(H0/H)" is the
+// same magnitude with the sign of a decrease).
+double ring_inner_diameter_change_frictionless(double H0, double H);
+
+}  // namespace rpfem

@@ -20,6 +20,7 @@ StepFields fields(const StepRecord& r) {
   f.strain = &r.strain;
   f.mean_stress = &r.mean_stress;
   f.element_scalars["flow_stress"] = r.flow_stress;
+  f.node_scalars = r.node_fields;
   return f;
 }
 std::string to_json(const toml::table& t) {

@@ -13,21 +13,22 @@
 #include <string>
 #include <vector>
 
+#include "contact/friction_law.hpp"
 #include "core/types.hpp"
 
 namespace rpfem {
 
 struct DiePiece {
   bool arc = false;
-  Vec2 a, b;          // end points, in walking order
-  Vec2 center;        // arcs
+  Vec2 a = Vec2::Zero(), b = Vec2::Zero();  // end points, in walking order
+  Vec2 center = Vec2::Zero();               // arcs
   double radius = 0;  // arcs
   bool convex = true; // arcs: centre inside the die (a rounded punch edge)
 };
 
 struct DieProjection {
-  Vec2 point;          // closest point on the profile
-  Vec2 normal;         // outward (toward the workpiece), unit
+  Vec2 point = Vec2::Zero();   // closest point on the profile
+  Vec2 normal = Vec2::Zero();  // outward (toward the workpiece), unit
   double distance = 0; // signed: > 0 outside the die, < 0 inside
   int piece = -1;
   bool at_vertex = false;  // closest point is a sharp corner or a profile end
@@ -68,6 +69,7 @@ struct Die {
   std::string name;
   DieProfile profile;
   DieMotion motion;
+  FrictionLaw friction;  // on the die's contact surface
   DieProjection project(const Vec2& p, double t) const { return profile.project(p, motion.displacement(t)); }
 };
 

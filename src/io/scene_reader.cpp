@@ -159,6 +159,23 @@ Scene read_scene(CaseFile& file) {
       } else {
         die.motion = DieMotion(Vec2(d.real("vx", 0.0, Range::any(), "mm/s"), d.real("vy", 0.0, Range::any(), "mm/s")));
       }
+      CaseSection f = d.section("friction");
+      const std::string law = f.text("law", "none", {"none", "factor", "coulomb"});
+      // The other laws' coefficients may stay in the file (so a variant can
+      // switch the law by one key); they are not used.
+      for (const char* k : {"m", "mu", "a"})
+        if (!(law == "factor" && std::string(k) != "mu") && !(law == "coulomb" && std::string(k) != "m"))
+          f.ignore(k);
+      if (law == "factor") {
+        die.friction.kind = FrictionLaw::Kind::Factor;
+        die.friction.m = f.real("m", std::nullopt, {0, 1}, "friction factor");
+      } else if (law == "coulomb") {
+        die.friction.kind = FrictionLaw::Kind::Coulomb;
+        die.friction.mu = f.real("mu", std::nullopt, Range::nonnegative(), "Coulomb coefficient");
+      }
+      if (law != "none")
+        die.friction.a_relative =
+            f.real("a", 1e-3, Range::positive(), "arctan smoothing speed, relative to the largest die speed");
       sc.dies.push_back(die);
     }
   }

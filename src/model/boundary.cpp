@@ -5,12 +5,14 @@
 
 namespace rpfem {
 
-double symmetry_load_factor(const std::vector<SymmetryPlane>& planes, const std::vector<Vec2>& x,
-                            const std::vector<Index>& nodes, double tol) {
-  double f = 1;
+Vec2 symmetry_load_factor(const std::vector<SymmetryPlane>& planes, const std::vector<Vec2>& x,
+                          const std::vector<Index>& nodes, double tol) {
+  Vec2 f(1, 1);
   for (const auto& p : planes)
-    if (std::any_of(nodes.begin(), nodes.end(), [&](Index n) { return std::abs(x[n](p.axis) - p.at) <= tol; }))
+    if (std::any_of(nodes.begin(), nodes.end(), [&](Index n) { return std::abs(x[n](p.axis) - p.at) <= tol; })) {
       f *= 2;
+      f(p.axis) = 0;
+    }
   return f;
 }
 
@@ -61,7 +63,7 @@ std::vector<Vec2> KernelConstraints::group_loads(const std::vector<Vec2>& x, con
   for (const auto& g : groups_) {
     Vec2 sum = Vec2::Zero();
     for (Index n : g.nodes) sum += F[n];
-    loads.push_back(sum * symmetry_load_factor(symmetry_, x, g.nodes, tol_));
+    loads.push_back(sum.cwiseProduct(symmetry_load_factor(symmetry_, x, g.nodes, tol_)));
   }
   return loads;
 }

@@ -23,8 +23,8 @@ class KernelConstraints {
   std::optional<double> group_speed(const std::string& name) const;
   std::vector<std::string> load_names() const;  // one per velocity group
   // Whole-body load on each velocity group: the sum of the nodal forces of
-  // its nodes, doubled for each symmetry plane that the group touches (the
-  // mirror image is part of the same platen).
+  // its nodes, mirrored across each symmetry plane that the group touches
+  // (the mirror image is part of the same platen): symmetry_load_factor.
   std::vector<Vec2> group_loads(const std::vector<Vec2>& x, const std::vector<Vec2>& F) const;
 
  private:
@@ -38,8 +38,11 @@ class KernelConstraints {
   double tol_ = 0;
 };
 
-// Factor of 2 per symmetry plane on which at least one of the nodes lies.
-double symmetry_load_factor(const std::vector<SymmetryPlane>& planes, const std::vector<Vec2>& x,
+// Whole-model load from a half or quarter model's: for each symmetry plane
+// on which at least one of the nodes lies, the mirrored half doubles the
+// component along the plane and cancels the component normal to it. Apply
+// with load.cwiseProduct(factor).
+Vec2 symmetry_load_factor(const std::vector<SymmetryPlane>& planes, const std::vector<Vec2>& x,
                             const std::vector<Index>& nodes, double tol);
 
 }  // namespace rpfem

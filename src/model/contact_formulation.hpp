@@ -8,6 +8,7 @@
 // The kernel never names a concrete formulation: formulations/factory.hpp
 // turns the keyword into an object.
 #pragma once
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -103,9 +104,16 @@ class ContactFormulation {
   // Loads on the formulation's own objects (dies), N: names fixed at start.
   virtual std::vector<std::string> load_names() const { return {}; }
   virtual std::vector<Vec2> loads(const StepView&, const std::vector<Vec2>& F) const { return {}; }
+  // Per-node fields of the last converged solve for result.h5 (e.g. the
+  // contact pressure and shear stress, MPa); zero away from contact.
+  virtual void node_fields(const StepView&, std::map<std::string, std::vector<double>>& out) const {}
   // Per-step scalars for history.csv (names fixed at start).
   virtual std::vector<std::string> report_names() const { return {}; }
   virtual std::vector<double> report() const { return {}; }
+  // After the nodes moved to x (the configuration at view.time + view.dt),
+  // a formulation may place its contact nodes back on curved surfaces they
+  // slid along (ALPID's correction); returns the largest move (mm).
+  virtual double place_on_surfaces(const StepView&, std::vector<Vec2>& x) { return 0; }
   // End of an accepted step of length dt: move dies, carry contact state.
   virtual void advance(const StepView&, const std::vector<Vec2>& v) {}
 };

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "fem/edge_weights.hpp"
 #include "model/scene.hpp"
 
 namespace rpfem {
@@ -157,14 +158,9 @@ std::vector<Vec2> traction_forces(const Mesh& mesh, const std::vector<Vec2>& x, 
       const double L = d.norm();
       const Vec2 n(d(1) / L, -d(0) / L);  // outward: body on the left of a -> b
       const Vec2 t = load.t - load.pressure * n;
-      // int N_a dS: L/2 in plane strain; 2 pi L (2 r_a + r_b)/6 in axisymmetry.
-      double wa = 0.5 * L, wb = 0.5 * L;
-      if (g == Geometry::Axisymmetric) {
-        wa = 2 * kPi * L * (2 * xa(0) + xb(0)) / 6.0;
-        wb = 2 * kPi * L * (xa(0) + 2 * xb(0)) / 6.0;
-      }
-      F[e.a] += wa * t;
-      F[e.b] += wb * t;
+      const auto w = edge_weights(xa, xb, g);  // int N_a dS
+      F[e.a] += w[0] * t;
+      F[e.b] += w[1] * t;
     }
   }
   return F;

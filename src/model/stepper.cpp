@@ -123,8 +123,10 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     sol.rate[e] = sol.post[e].strain_rate;
     double mean_strain = 0;
     for (double s : st.strain[e]) mean_strain += 0.25 * s;
-    sol.flow_stress[e] =
-        flow_point(*in.law, mean_strain, sol.post[e].strain_rate_mean, derived_.limiting_strain_rate).sigma;
+    // The material's flow stress (at no less than the limiting rate, so a
+    // rigid zone reports its yield stress, not the linear-viscous stress).
+    const double lim = derived_.limiting_strain_rate;
+    sol.flow_stress[e] = flow_point(*in.law, mean_strain, std::max(sol.post[e].strain_rate_mean, lim), lim).sigma;
     for (double r : sol.rate[e])
       if (!std::isfinite(r)) {
         sol.failure = "non-finite strain rate";
@@ -173,8 +175,13 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   const StepView sv = view(st, step, dt);
   r.loads = bc_.group_loads(st.x, sol.F);
   for (const Vec2& l : contact_.loads(sv, sol.F)) r.loads.push_back(l);
+  // In axisymmetry radial nodal forces cancel around the circumference: a
+  // body's resultant force has no radial component.
+  if (scene_.geometry == Geometry::Axisymmetric)
+    for (Vec2& l : r.loads) l(0) = 0;
   contact_.contact_forces(sv, sol.v, sol.F, r.contact_force);
   r.contact_report = contact_.report();
+  contact_.node_fields(sv, r.node_fields);
   r.events = sol.events;
   r.min_scaled_jacobian = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
   obs_.on_step(r);
@@ -257,8 +264,17 @@ RunOutcome Runner::run() {
       }
       if (why.empty()) {
         next = advance(st, *mover, dt);
+        StepView moved = view(st, step, dt);
+        moved.time = next.time;
+        moved.x = &next.x;
+        contact_.place_on_surfaces(moved, next.x);
         const double q = mesh_quality(mesh, next.x).min_scaled_jacobian;
-        if (!(q > 0)) why = "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
+        // A corner angle of exactly 180 degrees (scaled Jacobian 0) is not an
+        // inversion: it is what a side node folding over onto a flat die
+        // makes of its element's corner (the element stays integrable); only
+        // a reflex corner beyond round-off is.
+        constexpr double kReflexTolerance = 1e-9;
+        if (!(q > -kReflexTolerance)) why = "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
       }
       if (why.empty()) {
         next_sol = solve(next, mover->v, step, dt);

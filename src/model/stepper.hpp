@@ -8,6 +8,7 @@
 // then the run stops, every finished step already recorded.
 #pragma once
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ struct StepRecord {
   std::vector<Vec2> loads;              // N, whole body, per load_names entry
   std::vector<Vec2> contact_force;      // N, per node
   std::vector<double> contact_report;   // per formulation report_names entry
+  std::map<std::string, std::vector<double>> node_fields;  // per node, from the formulation
   std::vector<std::string> events;
   double volume = 0;                    // mm^3, whole body
   double min_scaled_jacobian = 0;

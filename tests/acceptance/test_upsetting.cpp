@@ -14,33 +14,19 @@
 #include "analytic.hpp"
 #include "core/types.hpp"
 #include "results.hpp"
+#include "run_case.hpp"
 
 using namespace rpfem;
 
 namespace {
 
 std::string run_file(const std::string& path, const std::string& extra) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::string out =
-      (std::filesystem::temp_directory_path() / ("rpfem_accept_" + std::string(info->name()))).string();
-  std::filesystem::remove_all(out);
+  const std::string out = accept::test_out_dir();
   const std::string cmd = std::string(RPFEM_BINARY) + " run " + path + " --out " + out + " --quiet " + extra;
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   return out;
 }
-
-std::string run_case(const std::string& name, const std::string& extra = "") {
-  // One folder per test: ctest runs tests in parallel.
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::string out =
-      (std::filesystem::temp_directory_path() / ("rpfem_accept_" + std::string(info->name()))).string();
-  std::filesystem::remove_all(out);
-  const std::string cmd = std::string(RPFEM_BINARY) + " run " + RPFEM_SOURCE_DIR + "/cases/" + name +
-                          ".toml --out " + out + " --quiet " + extra;
-  const int rc = std::system(cmd.c_str());
-  EXPECT_EQ(rc, 0) << cmd;
-  return out;
-}
+using accept::run_case;
 
 // As stated in the case files; the plane-strain case adds the rate term
 // m = 0.01, rate_ref = 0.1 1/s (see its header for why).
