@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--out,-o", run.out_dir, "output folder (created)")->required();
   run_cmd->add_option("--formulation,-f", run.formulation, formulation_help);
   run_cmd->add_option("--set,-s", run.overrides, "override a case value: key.path=value (repeatable)");
+  run_cmd->add_option("--variant", run.variant,
+                      "run a [[variants]] entry of the case (its overrides, then --set's); 'all': each into OUT/NAME");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress output");
 
   try {

@@ -1,20 +1,31 @@
 #include "app/run_command.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
 #include "app/run_observer.hpp"
+#include "app/variants.hpp"
 #include "core/version.hpp"
 #include "factory.hpp"
 #include "io/case_file.hpp"
+#include "io/monitors.hpp"
 #include "io/scene_reader.hpp"
 #include "mesh/quality.hpp"
 
 namespace rpfem {
 
-int run_command(const RunOptions& opt) {
-  CaseFile file(opt.case_file, opt.overrides);
+namespace {
+
+// One run: the case with the variant's overrides, then the user's.
+int run_one(const RunOptions& opt, const Variant* variant, const std::string& out_dir) {
+  std::vector<std::string> overrides;
+  if (variant) overrides = variant->set;
+  overrides.insert(overrides.end(), opt.overrides.begin(), opt.overrides.end());
+  CaseFile file(opt.case_file, overrides);
+  read_variants(file.root());  // validated, and known to finish()
   Scene scene = read_scene(file);
+  const std::vector<Monitor> monitors = read_monitors(file.root(), scene.mesh);
   const std::string fname = opt.formulation.empty() ? scene.formulation : opt.formulation;
   auto contact = make_formulation(fname, file, scene);
   file.finish();
@@ -22,34 +33,70 @@ int run_command(const RunOptions& opt) {
   const MeshQuality q = mesh_quality(scene.mesh);
   toml::table summary{{"case", scene.name},
                       {"case_file", std::filesystem::absolute(opt.case_file).string()},
+                      {"variant", variant ? variant->name : std::string()},
                       {"formulation", contact->name()},
                       {"version", kVersion},
                       {"parameters", file.used()}};
-  toml::array overrides;
-  for (const auto& o : opt.overrides) overrides.push_back(o);
-  summary.insert("overrides", overrides);
+  toml::array ov;
+  for (const auto& o : overrides) ov.push_back(o);
+  summary.insert("overrides", ov);
   summary.insert("mesh", toml::table{{"nodes", scene.mesh.num_nodes()},
                                      {"elements", scene.mesh.num_elements()},
                                      {"min_scaled_jacobian", q.min_scaled_jacobian},
                                      {"max_aspect_ratio", q.max_aspect_ratio}});
   if (!opt.quiet)
-    std::printf("rpfem %s: %s with '%s': %lld elements, %lld nodes, mesh quality: min scaled Jacobian %.3f, "
+    std::printf("rpfem %s: %s%s%s with '%s': %lld elements, %lld nodes, mesh quality: min scaled Jacobian %.3f, "
                 "max aspect ratio %.2f\n",
-                kVersion, scene.name.c_str(), contact->name().c_str(), (long long)scene.mesh.num_elements(),
-                (long long)scene.mesh.num_nodes(), q.min_scaled_jacobian, q.max_aspect_ratio);
+                kVersion, scene.name.c_str(), variant ? ", variant " : "", variant ? variant->name.c_str() : "",
+                contact->name().c_str(), (long long)scene.mesh.num_elements(), (long long)scene.mesh.num_nodes(),
+                q.min_scaled_jacobian, q.max_aspect_ratio);
 
-  RunObserver obs(scene, opt.out_dir, summary, opt.quiet);
+  RunObserver obs(scene, out_dir, summary, opt.quiet, monitors);
   const RunOutcome out = run_scene(scene, *contact, obs);
   obs.finish(out);
   if (!out.finished) {
     std::fprintf(stderr, "rpfem: run stopped: %s (finished steps saved in %s)\n", out.reason.c_str(),
-                 opt.out_dir.c_str());
+                 out_dir.c_str());
     return 3;
   }
   if (!opt.quiet)
     std::printf("finished: %d steps, %d Newton iterations; results in %s\n", out.steps,
-                out.total_newton_iterations, opt.out_dir.c_str());
+                out.total_newton_iterations, out_dir.c_str());
   return 0;
+}
+
+}  // namespace
+
+int run_command(const RunOptions& opt) {
+  if (opt.variant.empty()) return run_one(opt, nullptr, opt.out_dir);
+  CaseFile probe(opt.case_file);
+  const std::vector<Variant> variants = read_variants(probe.root());
+  if (opt.variant != "all") return run_one(opt, &find_variant(variants, opt.variant, opt.case_file), opt.out_dir);
+  if (variants.empty()) throw InputError(opt.case_file + ": --variant all: the case declares no [[variants]]");
+  // Each variant into OUT/NAME; the worst exit code (2 bad input, 3 stopped).
+  int worst = 0;
+  std::vector<std::string> lines;
+  for (const auto& v : variants) {
+    const auto t0 = std::chrono::steady_clock::now();
+    int rc;
+    try {
+      rc = run_one(opt, &v, (std::filesystem::path(opt.out_dir) / v.name).string());
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "rpfem: error: variant %s: %s\n", v.name.c_str(), e.what());
+      rc = 2;
+    }
+    if (rc == 2 || (rc == 3 && worst == 0)) worst = rc;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "  %-24s %-9s %8.1f s", v.name.c_str(),
+                  rc == 0 ? "finished" : rc == 3 ? "stopped" : "bad input",
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    lines.push_back(buf);
+  }
+  if (!opt.quiet) {
+    std::printf("variants of %s (results in %s/NAME):\n", opt.case_file.c_str(), opt.out_dir.c_str());
+    for (const auto& l : lines) std::printf("%s\n", l.c_str());
+  }
+  return worst;
 }
 
 }  // namespace rpfem

@@ -10,6 +10,7 @@ struct RunOptions {
   std::string out_dir;
   std::string formulation;  // empty: the scene's own
   std::vector<std::string> overrides;
+  std::string variant;  // empty: the base case; "all": every variant into out_dir/NAME
   bool quiet = false;
 };
 

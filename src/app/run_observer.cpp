@@ -30,9 +30,20 @@ std::string to_json(const toml::table& t) {
 }
 }  // namespace
 
-RunObserver::RunObserver(const Scene& scene, const std::string& dir, toml::table summary, bool quiet)
-    : scene_(scene), dir_(dir), summary_(std::move(summary)), quiet_(quiet), t0_(std::chrono::steady_clock::now()) {
+RunObserver::RunObserver(const Scene& scene, const std::string& dir, toml::table summary, bool quiet,
+                         std::vector<Monitor> monitors)
+    : scene_(scene), dir_(dir), summary_(std::move(summary)), quiet_(quiet), monitors_(std::move(monitors)),
+      t0_(std::chrono::steady_clock::now()) {
   summary_.insert_or_assign("status", "running");
+  toml::array mons;
+  for (const auto& m : monitors_) {
+    toml::table t{{"name", m.name}, {"side", m.side}, {"quantity", m.quantity_name}, {"initial_mm", m.initial}};
+    t.insert("change", m.change == Monitor::Change::None       ? "none"
+                       : m.change == Monitor::Change::Relative ? "relative"
+                                                               : "percent");
+    mons.push_back(t);
+  }
+  summary_.insert_or_assign("monitors", mons);
   writer_ = std::make_unique<ResultWriter>(dir_, scene_.mesh, to_json(summary_));
   const auto& s = scene_.stepping;
   expected_steps_ = std::max(1, static_cast<int>(std::ceil(s.end_stroke / s.stroke_increment - 1e-9)));
@@ -60,6 +71,7 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
                         "min_scaled_jacobian", "rigid_points"})
     cols.push_back(c);
   for (const auto& n : report_names) cols.push_back(n);
+  for (const auto& m : monitors_) cols.push_back(m.name);
   history_ = std::make_unique<HistoryWriter>(dir_ + "/history.csv", cols);
   events_path_ = dir_ + "/events.csv";
   std::ofstream(events_path_, std::ios::trunc) << "step,time,event\n";
@@ -80,6 +92,7 @@ void RunObserver::on_step(const StepRecord& r) {
                    double(r.cuts), r.min_scaled_jacobian, double(r.rigid_points)})
     row.push_back(v);
   row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());
+  for (double v : evaluate_monitors(monitors_, r.x)) row.push_back(v);
   history_->write_row(row);
   if (!r.events.empty()) {
     std::ofstream ev(events_path_, std::ios::app);

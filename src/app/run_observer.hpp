@@ -7,6 +7,7 @@
 
 #include <toml++/toml.h>
 
+#include "io/monitors.hpp"
 #include "io/result_writer.hpp"
 #include "model/scene.hpp"
 #include "model/stepper.hpp"
@@ -15,7 +16,8 @@ namespace rpfem {
 
 class RunObserver final : public StepObserver {
  public:
-  RunObserver(const Scene& scene, const std::string& dir, toml::table summary, bool quiet);
+  RunObserver(const Scene& scene, const std::string& dir, toml::table summary, bool quiet,
+              std::vector<Monitor> monitors = {});
   void on_start(const DerivedParameters& d, const std::vector<std::string>& load_names,
                 const std::vector<std::string>& report_names) override;
   void on_step(const StepRecord& r) override;
@@ -35,6 +37,7 @@ class RunObserver final : public StepObserver {
   std::unique_ptr<HistoryWriter> history_;
   std::string events_path_;
   std::vector<std::string> load_names_;
+  std::vector<Monitor> monitors_;
   std::chrono::steady_clock::time_point t0_;
   double initial_volume_ = 0, max_volume_change_ = 0, min_quality_ = 1;
   int last_field_step_ = -1, expected_steps_ = 1, last_step_ = 0;

@@ -163,6 +163,37 @@ double CaseSection::real(const std::string& key, std::optional<double> def, Rang
   return *def;
 }
 
+std::vector<double> CaseSection::real_array(const std::string& key, int n, const std::string& what) {
+  const std::string expect =
+      "an array of " + (n < 0 ? std::string("numbers") : std::to_string(n) + " numbers") + ": " + what;
+  auto* a = get(key) ? get(key)->as_array() : nullptr;
+  if (!a) fail(key, "required, expected " + expect);
+  std::vector<double> v;
+  for (auto& e : *a) {
+    auto d = e.value<double>();
+    if (!d || !std::isfinite(*d)) fail(key, "expected " + expect + ", got " + show(*get(key)));
+    v.push_back(*d);
+  }
+  if ((n >= 0 && static_cast<int>(v.size()) != n) || v.empty())
+    fail(key, "expected " + expect + ", got " + show(*get(key)));
+  record(key, toml::array(*a));
+  return v;
+}
+
+std::vector<std::string> CaseSection::text_array(const std::string& key, const std::string& what) {
+  const std::string expect = "an array of strings: " + what;
+  auto* a = get(key) ? get(key)->as_array() : nullptr;
+  if (!a) fail(key, "required, expected " + expect);
+  std::vector<std::string> v;
+  for (auto& e : *a) {
+    auto t = e.value<std::string>();
+    if (!t) fail(key, "expected " + expect + ", got " + show(*get(key)));
+    v.push_back(*t);
+  }
+  record(key, toml::array(*a));
+  return v;
+}
+
 int CaseSection::integer(const std::string& key, std::optional<int> def, int lo, int hi) {
   const std::string expect = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   auto* n = get(key);

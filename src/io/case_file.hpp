@@ -40,6 +40,9 @@ class CaseSection {
   std::string text(const std::string& key, std::optional<std::string> def,
                    const std::vector<std::string>& allowed = {});
   bool flag(const std::string& key, std::optional<bool> def);
+  // Required arrays: of exactly n numbers (n < 0: any length >= 1), of strings.
+  std::vector<double> real_array(const std::string& key, int n, const std::string& what);
+  std::vector<std::string> text_array(const std::string& key, const std::string& what);
   // Sub-tables and arrays of tables.
   std::optional<CaseSection> table(const std::string& key);
   CaseSection required_table(const std::string& key);

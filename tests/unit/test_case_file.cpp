@@ -8,14 +8,12 @@
 #include "io/case_file.hpp"
 #include "io/scene_reader.hpp"
 
+#include "temp_file.hpp"
+
 using namespace rpfem;
 
 namespace {
-std::string write(const std::string& name, const std::string& text) {
-  const auto p = std::filesystem::temp_directory_path() / name;
-  std::ofstream(p) << text;
-  return p.string();
-}
+std::string write(const std::string& name, const std::string& text) { return unit::write_temp(name, text); }
 }  // namespace
 
 TEST(CaseFile, ReadsValidatesAndRecordsDefaults) {
