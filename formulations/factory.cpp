@@ -2,6 +2,7 @@
 
 #include "direct/direct_formulation.hpp"
 #include "none/none_formulation.hpp"
+#include "penalty/penalty_formulation.hpp"
 
 namespace rpfem {
 
@@ -9,6 +10,7 @@ const std::vector<FormulationInfo>& formulations() {
   static const std::vector<FormulationInfo> list{
       {"none", "no contact: platens as prescribed velocities, tractions, symmetry planes"},
       {"direct", "rigid dies as kinematic constraints (ALPID): exact normal velocity, free sliding"},
+      {"penalty", "node-to-segment penalty on the normal relative velocity, between bodies and against dies (the paper)"},
   };
   return list;
 }
@@ -25,6 +27,7 @@ std::unique_ptr<ContactFormulation> make_formulation(const std::string& name, Ca
     return std::make_unique<NoContact>();
   }
   if (name == "direct") return std::make_unique<DirectContact>(scene, all.section("direct"));
+  if (name == "penalty") return std::make_unique<PenaltyContact>(scene, all.section("penalty"));
   std::string known;
   for (const auto& f : formulations()) known += (known.empty() ? "" : ", ") + f.name;
   throw InputError(file.path() + ": formulation '" + name + "' is unknown; expected one of: " + known);

@@ -35,6 +35,9 @@ DirectContact::DirectContact(const Scene& scene, CaseSection settings)
   std::map<std::pair<Index, int>, int> index;
   std::map<std::tuple<Index, Index, int>, bool> seen_edge;
   for (const auto& pair : scene.contact_pairs) {
+    if (!pair.with_die())
+      throw InputError(scene.file + ": the contact pair of bodies '" + pair.body + "' and '" + pair.with_body +
+                       "' needs a formulation for contact between bodies ('penalty'); 'direct' treats rigid dies only");
     const int die = static_cast<int>(std::find_if(scene.dies.begin(), scene.dies.end(),
                                                   [&](const Die& d) { return d.name == pair.die; }) -
                                      scene.dies.begin());

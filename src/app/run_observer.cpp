@@ -61,6 +61,11 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
   toml::table alpha;
   for (std::size_t b = 0; b < d.alpha.size(); ++b) alpha.insert(scene_.bodies[b].name, d.alpha[b]);
   derived.insert("alpha_MPa_s", alpha);
+  if (!d.contact.empty()) {
+    toml::table contact;
+    for (const auto& nv : d.contact) contact.insert(nv.name, nv.value);
+    derived.insert("contact", contact);
+  }
   summary_.insert_or_assign("derived", derived);
   std::vector<std::string> cols{"step", "time", "stroke"};
   for (const auto& n : load_names) {

@@ -34,7 +34,7 @@ FlowStressLaw read_material(CaseSection m, std::string& name) {
 }
 
 Mesh read_mesh(CaseSection s, const std::string& body) {
-  const std::string shape = s.text("shape", std::nullopt, {"rectangle", "ring", "disk"});
+  const std::string shape = s.text("shape", std::nullopt, {"rectangle", "quadrilateral", "ring", "disk"});
   Mesh mesh;
   if (shape == "rectangle") {
     RectangleSpec r;
@@ -45,6 +45,13 @@ Mesh read_mesh(CaseSection s, const std::string& body) {
     r.nx = s.integer("nx", std::nullopt, 1, 100000);
     r.ny = s.integer("ny", std::nullopt, 1, 100000);
     mesh = make_rectangle(body, r);
+  } else if (shape == "quadrilateral") {
+    QuadrilateralSpec q;
+    const std::vector<double> c = s.real_array("corners", 8, "x, y of the 4 corners (mm), counter-clockwise");
+    for (int i = 0; i < 4; ++i) q.corners[i] = Vec2(c[2 * i], c[2 * i + 1]);
+    q.nx = s.integer("nx", std::nullopt, 1, 100000);
+    q.ny = s.integer("ny", std::nullopt, 1, 100000);
+    mesh = make_quadrilateral(body, q);
   } else if (shape == "ring") {
     RingSpec r;
     r.inner_radius = s.real("inner_radius", std::nullopt, Range::positive(), "mm");
@@ -65,6 +72,43 @@ Mesh read_mesh(CaseSection s, const std::string& body) {
     mesh = make_disk(body, d);
   }
   return mesh;
+}
+
+// A friction law's table ([dies.NAME.friction], [contact_pairs.friction]).
+FrictionLaw read_friction(CaseSection f) {
+  FrictionLaw out;
+  const std::string law = f.text("law", "none", {"none", "factor", "coulomb"});
+  // The other laws' coefficients may stay in the file (so a variant can
+  // switch the law by one key); they are not used.
+  for (const char* k : {"m", "mu", "a"})
+    if (!(law == "factor" && std::string(k) != "mu") && !(law == "coulomb" && std::string(k) != "m")) f.ignore(k);
+  if (law == "factor") {
+    out.kind = FrictionLaw::Kind::Factor;
+    out.m = f.real("m", std::nullopt, {0, 1}, "friction factor");
+  } else if (law == "coulomb") {
+    out.kind = FrictionLaw::Kind::Coulomb;
+    out.mu = f.real("mu", std::nullopt, Range::nonnegative(), "Coulomb coefficient");
+  }
+  if (law != "none")
+    out.a_relative = f.real("a", 1e-3, Range::positive(), "arctan smoothing speed, relative to the largest prescribed speed");
+  return out;
+}
+
+// "a, b" -> {"body.a", "body.b"}, each a side of the body's mesh.
+std::vector<std::string> side_list(CaseSection& c, const std::string& key, const std::string& body, const Mesh& mesh) {
+  std::vector<std::string> out;
+  const std::string sides = c.text(key, "boundary");
+  for (std::size_t a = 0, b; a <= sides.size(); a = b + 1) {
+    b = sides.find(',', a);
+    if (b == std::string::npos) b = sides.size();
+    std::string side = sides.substr(a, b - a);
+    side.erase(0, side.find_first_not_of(' '));
+    side.erase(side.find_last_not_of(' ') + 1);
+    const std::string full = body + "." + side;
+    if (!mesh.sides.count(full)) c.fail(key, "no side '" + full + "' on the mesh");
+    out.push_back(full);
+  }
+  return out;
 }
 
 }  // namespace
@@ -159,23 +203,7 @@ Scene read_scene(CaseFile& file) {
       } else {
         die.motion = DieMotion(Vec2(d.real("vx", 0.0, Range::any(), "mm/s"), d.real("vy", 0.0, Range::any(), "mm/s")));
       }
-      CaseSection f = d.section("friction");
-      const std::string law = f.text("law", "none", {"none", "factor", "coulomb"});
-      // The other laws' coefficients may stay in the file (so a variant can
-      // switch the law by one key); they are not used.
-      for (const char* k : {"m", "mu", "a"})
-        if (!(law == "factor" && std::string(k) != "mu") && !(law == "coulomb" && std::string(k) != "m"))
-          f.ignore(k);
-      if (law == "factor") {
-        die.friction.kind = FrictionLaw::Kind::Factor;
-        die.friction.m = f.real("m", std::nullopt, {0, 1}, "friction factor");
-      } else if (law == "coulomb") {
-        die.friction.kind = FrictionLaw::Kind::Coulomb;
-        die.friction.mu = f.real("mu", std::nullopt, Range::nonnegative(), "Coulomb coefficient");
-      }
-      if (law != "none")
-        die.friction.a_relative =
-            f.real("a", 1e-3, Range::positive(), "arctan smoothing speed, relative to the largest die speed");
+      die.friction = read_friction(d.section("friction"));
       sc.dies.push_back(die);
     }
   }
@@ -183,20 +211,22 @@ Scene read_scene(CaseFile& file) {
     ContactPair p;
     p.body = c.text("body", std::nullopt);
     if (!bodies.has(p.body)) c.fail("body", "no body named '" + p.body + "'");
-    const std::string sides = c.text("sides", "boundary");
-    for (std::size_t a = 0, b; a <= sides.size(); a = b + 1) {
-      b = sides.find(',', a);
-      if (b == std::string::npos) b = sides.size();
-      std::string side = sides.substr(a, b - a);
-      side.erase(0, side.find_first_not_of(' '));
-      side.erase(side.find_last_not_of(' ') + 1);
-      const std::string full = p.body + "." + side;
-      if (!sc.mesh.sides.count(full)) c.fail("sides", "no side '" + full + "' on the mesh");
-      p.sides.push_back(full);
+    p.sides = side_list(c, "sides", p.body, sc.mesh);
+    // The other side of the pair: a rigid die, or another body's sides.
+    if (c.has("die") == c.has("with")) c.fail("die", "give either 'die' (a rigid die) or 'with' (another body)");
+    if (c.has("die")) {
+      p.die = c.text("die", std::nullopt);
+      if (std::none_of(sc.dies.begin(), sc.dies.end(), [&](const Die& d) { return d.name == p.die; }))
+        c.fail("die", "no die named '" + p.die + "'");
+      if (c.has("with_sides")) c.fail("with_sides", "only with 'with' (another body)");
+      if (c.has("friction")) c.fail("friction", "friction on a die is set in [dies.NAME.friction]");
+    } else {
+      p.with_body = c.text("with", std::nullopt);
+      if (!bodies.has(p.with_body)) c.fail("with", "no body named '" + p.with_body + "'");
+      if (p.with_body == p.body) c.fail("with", "a body in contact with itself is not supported");
+      p.with_sides = side_list(c, "with_sides", p.with_body, sc.mesh);
+      p.friction = read_friction(c.section("friction"));
     }
-    p.die = c.text("die", std::nullopt);
-    if (std::none_of(sc.dies.begin(), sc.dies.end(), [&](const Die& d) { return d.name == p.die; }))
-      c.fail("die", "no die named '" + p.die + "'");
     sc.contact_pairs.push_back(p);
   }
 

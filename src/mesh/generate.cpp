@@ -195,6 +195,15 @@ Mesh make_rectangle(const std::string& body, const RectangleSpec& s) {
                              {"bottom", "right", "top", "left"}}});
 }
 
+Mesh make_quadrilateral(const std::string& body, const QuadrilateralSpec& s) {
+  const auto& c = s.corners;
+  for (int i = 0; i < 4; ++i)
+    if (!(cross(c[(i + 1) % 4] - c[i], c[(i + 2) % 4] - c[(i + 1) % 4]) > 0))
+      throw InputError("mesh of '" + body + "': the corners must make a convex quadrilateral, counter-clockwise");
+  return mesh_blocks(body, {{s.nx, s.ny, line(c[0], c[1]), line(c[1], c[2]), line(c[3], c[2]), line(c[0], c[3]),
+                             {"bottom", "right", "top", "left"}}});
+}
+
 Mesh make_ring(const std::string& body, const RingSpec& s) {
   if (!(s.inner_radius >= 0)) throw InputError("mesh of '" + body + "': inner_radius must be >= 0");
   check_positive(body, "outer_radius - inner_radius", s.outer_radius - s.inner_radius);

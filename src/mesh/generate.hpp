@@ -7,6 +7,7 @@
 // "<body>.boundary"; each side is one counter-clockwise run of edges.
 // Invalid dimensions or divisions < 1 throw InputError.
 #pragma once
+#include <array>
 #include <string>
 
 #include "mesh/mesh.hpp"
@@ -19,6 +20,17 @@ struct RectangleSpec {
 };
 // Sides: bottom, right, top, left.
 Mesh make_rectangle(const std::string& body, const RectangleSpec& s);
+
+// A straight-sided quadrilateral block (a trapezoid, a conical punch's r-z
+// section): corners counter-clockwise from the bottom-left one; nx divisions
+// along bottom and top, ny along right and left.
+struct QuadrilateralSpec {
+  std::array<Vec2, 4> corners{Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  int nx = 10, ny = 10;
+};
+// Sides: bottom, right, top, left. Throws InputError unless convex and
+// counter-clockwise.
+Mesh make_quadrilateral(const std::string& body, const QuadrilateralSpec& s);
 
 struct RingSpec {
   double inner_radius = 1, outer_radius = 2, y0 = 0, height = 1;

@@ -26,6 +26,11 @@ class StepProblem;
 struct StepView {
   const Mesh* mesh = nullptr;
   const std::vector<Vec2>* x = nullptr;             // current node coordinates, mm
+  // The configuration the solved velocity will move the nodes from, over
+  // dt: x itself, except in the midpoint scheme's half-step solve, whose
+  // velocity moves the nodes from the start of the step.
+  const std::vector<Vec2>* x_from = nullptr;
+  double time_from = 0;  // s, the time of x_from
   const std::vector<double>* flow_stress = nullptr;  // per element, MPa (last solve)
   Geometry geometry = Geometry::Axisymmetric;
   double time = 0;  // s, at the start of the step
@@ -107,6 +112,9 @@ class ContactFormulation {
   // Per-node fields of the last converged solve for result.h5 (e.g. the
   // contact pressure and shear stress, MPa); zero away from contact.
   virtual void node_fields(const StepView&, std::map<std::string, std::vector<double>>& out) const {}
+  // Values the formulation derived from the scene (defaults it scaled, e.g.
+  // a penalty parameter), recorded in the run's summary.
+  virtual std::vector<NamedValue> derived() const { return {}; }
   // Per-step scalars for history.csv (names fixed at start).
   virtual std::vector<std::string> report_names() const { return {}; }
   virtual std::vector<double> report() const { return {}; }

@@ -39,11 +39,17 @@ struct SymmetryPlane {
   double at = 0.0;  // mm
 };
 
-// Which boundary sides of a body may touch which die.
+// Which boundary sides of a body may touch what: a rigid die (die set), or
+// the sides of another body (with_body set; the friction of that interface
+// in `friction`, a die's own is in Die::friction).
 struct ContactPair {
   std::string body;
   std::vector<std::string> sides;  // "<body>.<side>"
   std::string die;
+  std::string with_body;
+  std::vector<std::string> with_sides;
+  FrictionLaw friction;
+  bool with_die() const { return !die.empty(); }
 };
 
 struct BodySpec {

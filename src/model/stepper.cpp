@@ -36,7 +36,8 @@ class Runner {
   RunOutcome run();
 
  private:
-  Solution solve(const State& st, const std::vector<Vec2>& guess, int step, double dt);
+  // from: the state the solved velocity moves from (default st).
+  Solution solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from = nullptr);
   State advance(const State& st, const Solution& sol, double dt) const;
   StepView view(const State& st, int step, double dt) const;
   void record(const State& st, const Solution& sol, int step, double dt, int cuts);
@@ -57,6 +58,8 @@ StepView Runner::view(const State& st, int step, double dt) const {
   StepView v;
   v.mesh = &scene_.mesh;
   v.x = &st.x;
+  v.x_from = &st.x;
+  v.time_from = st.time;
   v.flow_stress = &flow_stress_;
   v.geometry = scene_.geometry;
   v.time = st.time;
@@ -65,9 +68,10 @@ StepView Runner::view(const State& st, int step, double dt) const {
   return v;
 }
 
-Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step, double dt) {
+Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from) {
   Solution sol;
-  const StepView sv = view(st, step, dt);
+  StepView sv = view(st, step, dt);
+  if (from) sv.x_from = &from->x, sv.time_from = from->time;
   const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
   contact_.begin_step(sv);
@@ -231,6 +235,7 @@ RunOutcome Runner::run() {
 
   std::vector<std::string> load_names = bc_.load_names();
   for (const auto& n : contact_.load_names()) load_names.push_back(n);
+  derived_.contact = contact_.derived();
   obs_.on_start(derived_, load_names, contact_.report_names());
 
   Solution sol = solve(st, std::vector<Vec2>(mesh.x.size(), Vec2::Zero()), 0, derived_.dt_nominal);
@@ -258,7 +263,7 @@ RunOutcome Runner::run() {
       if (scene_.stepping.integration == TimeIntegration::Midpoint) {
         // Velocity at the half step moves the nodes: second order in dt.
         State half = advance(st, sol, 0.5 * dt);
-        mid = solve(half, sol.v, step, dt);
+        mid = solve(half, sol.v, step, dt, &st);
         if (mid.failure.empty()) mover = &mid;
         else why = "midpoint solve: " + mid.failure;
       }
@@ -266,7 +271,8 @@ RunOutcome Runner::run() {
         next = advance(st, *mover, dt);
         StepView moved = view(st, step, dt);
         moved.time = next.time;
-        moved.x = &next.x;
+        moved.x = moved.x_from = &next.x;
+        moved.time_from = next.time;
         contact_.place_on_surfaces(moved, next.x);
         const double q = mesh_quality(mesh, next.x).min_scaled_jacobian;
         // A corner angle of exactly 180 degrees (scaled Jacobian 0) is not an

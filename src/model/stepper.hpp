@@ -45,6 +45,7 @@ struct DerivedParameters {
   double regularization = 0;         // s
   std::vector<double> alpha;         // MPa s, per body
   double dt_nominal = 0;             // s
+  std::vector<NamedValue> contact;   // the contact formulation's own
 };
 
 // The driver's side: it writes files and prints; the kernel does neither.

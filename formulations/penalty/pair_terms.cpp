@@ -1,0 +1,50 @@
+#include "penalty/pair_terms.hpp"
+
+#include <algorithm>
+
+namespace rpfem {
+
+PairResult pair_terms(const PairKinematics& p, const PairLaw& law, const std::array<Vec2, 3>& v, bool want_hess) {
+  PairResult out;
+  const int nd = 2 * p.k;
+  const Vec2 t(-p.n(1), p.n(0));
+  Vec2 u = -p.offset;
+  for (int a = 0; a < p.k; ++a) u += p.c[a] * v[a];
+  // d gamma_N / dV = c (x) n,  d gamma_T / dV = c (x) t.
+  std::array<double, 6> dn{}, dt{};
+  for (int a = 0; a < p.k; ++a)
+    for (int i = 0; i < 2; ++i) dn[2 * a + i] = p.c[a] * p.n(i), dt[2 * a + i] = p.c[a] * t(i);
+  out.gamma_n = u.dot(p.n);
+  out.gamma_t = u.dot(t);
+
+  // Normal penalty (paper eq. 7-8).
+  const double r = out.gamma_n + p.gap_from * law.inv_dt;
+  out.energy = 0.5 * law.beta * r * r;
+  out.normal_force = -law.beta * r;
+  for (int i = 0; i < nd; ++i) out.grad[i] = law.beta * r * dn[i];
+  if (want_hess)
+    for (int j = 0; j < nd; ++j)
+      for (int i = 0; i < nd; ++i) out.hess[j * nd + i] = law.beta * dn[i] * dn[j];
+
+  // Friction (paper eq. 11-12).
+  double dB = 0;  // dB / d gamma_N
+  if (law.kind == FrictionLaw::Kind::Factor) {
+    out.bound = law.m * law.k_weight;
+  } else if (law.kind == FrictionLaw::Kind::Coulomb) {
+    const double coulomb = law.mu * std::max(out.normal_force, 0.0);
+    out.bound = std::min(coulomb, law.k_weight);
+    if (out.normal_force > 0 && coulomb < law.k_weight) dB = -law.mu * law.beta;
+  }
+  if (out.bound <= 0 && dB == 0) return out;
+  const ArctanPotential f = arctan_potential(out.gamma_t, law.a);
+  out.energy += out.bound * f.psi;
+  out.friction = -out.bound * f.dpsi;
+  for (int i = 0; i < nd; ++i) out.grad[i] += out.bound * f.dpsi * dt[i];
+  if (want_hess)
+    for (int j = 0; j < nd; ++j)
+      for (int i = 0; i < nd; ++i)
+        out.hess[j * nd + i] += out.bound * f.d2psi * dt[i] * dt[j] + f.dpsi * dt[i] * dB * dn[j];
+  return out;
+}
+
+}  // namespace rpfem

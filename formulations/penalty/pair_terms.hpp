@@ -1,0 +1,64 @@
+// The penalty formulation's term for one contact pair: a slave node against
+// a master segment of another body (3 nodes) or against a rigid die (1 node).
+//
+// Relative velocity of the slave node to the master surface at xi (paper
+// eq. 9, 12; master velocity interpolated linearly on the segment):
+//   u = v_s - (1 - xi) v_a - xi v_b      (body master)
+//   u = v_s - v_die                      (die master)
+//   gamma_N = u . n   (gap rate; paper eq. 5 with the opposite sign: > 0 opens)
+//   gamma_T = u . t,  t = (-n_y, n_x)
+// Normal (paper eq. 7-8), with the gap correction of the step:
+//   r = gamma_N + g0 / dt   (the gap at the end of the step over dt, g0 the
+//                            gap where the velocity moves the nodes from;
+//                            without the correction r = gamma_N, exactly eq. 7)
+//   E_N = (beta / 2) r^2,   N = -beta r  (normal contact force, > 0 pressing)
+// Friction (paper eq. 11, Chen-Kobayashi arctan law), potential B psi(gamma_T)
+// (contact/friction_law.hpp) with the bound
+//   factor:  B = m k w
+//   Coulomb: B = min(mu max(N, 0), k w)    (paper eq. 11, capped at the
+//            shear yield k of the softer body as in the direct formulation)
+// Gradient and Hessian are exact; with Coulomb friction B depends on the
+// velocities through N, which adds the unsymmetric block
+//   psi'(gamma_T) (c (x) t) (dB/dV)^T,  dB/dV = -mu beta (c (x) n)
+// (the consistent tangent), and the term is not a potential.
+#pragma once
+#include <array>
+
+#include "contact/friction_law.hpp"
+#include "core/types.hpp"
+
+namespace rpfem {
+
+struct PairKinematics {
+  int k = 1;                        // nodes: slave, then master a, b
+  std::array<Index, 3> nodes{};     // mesh node ids
+  std::array<double, 3> c{1, 0, 0}; // u = sum_a c_a v_a - offset
+  Vec2 offset = Vec2::Zero();       // die velocity (die master), mm/s
+  Vec2 n = Vec2::Zero();            // unit master outward normal
+  double gap0 = 0;                  // mm, in the configuration solved on
+  double gap_from = 0;              // mm, where the velocity moves the nodes from
+};
+
+struct PairLaw {
+  double beta = 0;            // N s/mm
+  double inv_dt = 0;          // 1/dt with the gap correction, else 0
+  FrictionLaw::Kind kind = FrictionLaw::Kind::None;
+  double m = 0, mu = 0;
+  double k_weight = 0;        // N: shear-yield bound k w
+  double a = 1;               // smoothing speed, mm/s
+};
+
+struct PairResult {
+  double energy = 0;
+  std::array<double, 6> grad{};      // dE/dV, V = (v_s, v_a, v_b) stacked
+  std::array<double, 36> hess{};     // column-major, 2k x 2k used
+  double normal_force = 0;           // N, > 0 pressing
+  double bound = 0;                  // N, friction bound B
+  double friction = 0;               // N, friction force on the slave along t
+  double gamma_n = 0, gamma_t = 0;   // mm/s
+};
+
+// want_hess: fill the Hessian (else left zero).
+PairResult pair_terms(const PairKinematics& p, const PairLaw& law, const std::array<Vec2, 3>& v, bool want_hess);
+
+}  // namespace rpfem

@@ -1,0 +1,460 @@
+#include "penalty/penalty_formulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fem/edge_weights.hpp"
+#include "model/boundary.hpp"
+#include "penalty/roles.hpp"
+
+namespace rpfem {
+
+namespace {
+
+int body_index(const Scene& s, const std::string& name) {
+  for (int b = 0; b < static_cast<int>(s.bodies.size()); ++b)
+    if (s.bodies[b].name == name) return b;
+  return -1;
+}
+
+// The largest prescribed speed of the scene (dies and velocity groups), mm/s.
+double largest_speed(const Scene& s) {
+  double v = 0;
+  for (const Die& d : s.dies) v = std::max(v, d.motion.max_speed());
+  for (const auto& g : s.velocities) v = std::max(v, Vec2(g.vx.value_or(0), g.vy.value_or(0)).norm());
+  return v;
+}
+
+}  // namespace
+
+PenaltyContact::PenaltyContact(const Scene& scene, CaseSection settings) : scene_(scene) {
+  if (scene.contact_pairs.empty())
+    throw InputError(scene.file + ": formulation 'penalty' needs at least one [[contact_pairs]] entry");
+  Vec2 lo = scene.mesh.x.front(), hi = lo;
+  for (const auto& p : scene.mesh.x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double size = (hi - lo).maxCoeff();
+  speed_scale_ = largest_speed(scene);
+  if (!(speed_scale_ > 0)) throw InputError(scene.file + ": formulation 'penalty' scales beta by the largest "
+                                                         "prescribed speed, but nothing moves");
+  const double beta_factor = settings.real("beta_factor", 1.0, Range::positive(), "times the default beta");
+  const auto beta = settings.optional_real("beta", Range::positive(), "MPa s/mm (replaces the default)");
+  two_pass_ = settings.flag("two_pass", false);
+  gap_correction_ = settings.flag("gap_correction", true);
+  touch_tol_ = settings.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
+  release_tol_ = settings.real("release_tolerance", 1e-9, Range::nonnegative(), "relative to the largest contact force");
+  switch_tol_ = settings.real("switch_tolerance", 1e-3, Range::positive(), "relative to the element size");
+  capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
+  sym_tol_ = 1e-9 * size;
+
+  for (const auto& pair : scene.contact_pairs) {
+    Interface f;
+    f.side[0] = ContactSurface::from_sides(scene.mesh, pair.sides);
+    const int b0 = body_index(scene, pair.body);
+    f.sigma_ref = scene.bodies[b0].law.yield(0.0);
+    if (pair.with_die()) {
+      f.name = pair.body + "-" + pair.die;
+      f.die = static_cast<int>(std::find_if(scene.dies.begin(), scene.dies.end(),
+                                            [&](const Die& d) { return d.name == pair.die; }) - scene.dies.begin());
+      f.friction = scene.dies[f.die].friction;
+      f.h = mean_edge_length(scene.mesh.x, f.side[0]);
+    } else {
+      f.name = pair.body + "-" + pair.with_body;
+      f.side[1] = ContactSurface::from_sides(scene.mesh, pair.with_sides);
+      f.friction = pair.friction;
+      f.sigma_ref = std::min(f.sigma_ref, scene.bodies[body_index(scene, pair.with_body)].law.yield(0.0));
+      const double h0 = mean_edge_length(scene.mesh.x, f.side[0]), h1 = mean_edge_length(scene.mesh.x, f.side[1]);
+      f.slave = h1 < h0 ? 1 : 0;  // the finer surface starts as the slave
+      f.h = std::min(h0, h1);
+      any_bodies_ = true;
+    }
+    // Default: 1e3 times an element's stiffness at the reference strain
+    // rate (see the header); beta_factor scales it, beta replaces it.
+    f.beta_hat = beta ? *beta : beta_factor * 1e3 * f.sigma_ref * size / (speed_scale_ * f.h);
+    for (int s = 0; s < 2; ++s) f.active[s].assign(f.side[s].nodes.size(), 0);
+    coulomb_ = coulomb_ || f.friction.kind == FrictionLaw::Kind::Coulomb;
+    if (f.friction.kind != FrictionLaw::Kind::None) a_factor_ = std::max(a_factor_, 0.1 / f.friction.a_relative);
+    ifaces_.push_back(std::move(f));
+  }
+}
+
+void PenaltyContact::begin_step(const StepView& v) {
+  pairs_.clear();
+  master_penetration_ = 0;
+  const auto& x = *v.x;
+  for (int i = 0; i < static_cast<int>(ifaces_.size()); ++i) {
+    Interface& f = ifaces_[i];
+    if (f.die >= 0) {
+      collect_pairs(v, i, 0);
+      continue;
+    }
+    if (!two_pass_) {
+      const double capture = capture_ * f.h;
+      const SegmentGrid g0(x, f.side[0], capture), g1(x, f.side[1], capture);
+      const double tol = switch_tol_ * f.h;
+      const Penetrations from0 = count_penetrations(x, f.side[0], f.side[1], g1, capture, tol);
+      const Penetrations from1 = count_penetrations(x, f.side[1], f.side[0], g0, capture, tol);
+      const int slave = hallquist_slave(f.slave, from0, from1);
+      // What one-pass lets through: the master's nodes inside the slave.
+      master_penetration_ = std::max(master_penetration_, (slave == 0 ? from1 : from0).deepest / f.h);
+      if (slave != f.slave) {
+        std::fill(f.active[f.slave].begin(), f.active[f.slave].end(), 0);
+        f.slave = slave;
+        ++role_switches_;
+        events_.push_back("interface " + f.name + ": roles switch, the slave is now " +
+                          scene_.mesh.body_names[f.side[slave].body]);
+      }
+      collect_pairs(v, i, f.slave);
+    } else {
+      collect_pairs(v, i, 0);
+      collect_pairs(v, i, 1);
+    }
+  }
+  set_laws(v);
+  max_penetration_ = max_penetration_rel_ = 0;
+  for (const Pair& p : pairs_)
+    if (p.kin.gap0 < 0) {
+      max_penetration_ = std::max(max_penetration_, -p.kin.gap0);
+      max_penetration_rel_ = std::max(max_penetration_rel_, -p.kin.gap0 / p.h);
+    }
+}
+
+void PenaltyContact::collect_pairs(const StepView& v, int iface, int side) {
+  Interface& f = ifaces_[iface];
+  const auto& x = *v.x;
+  const ContactSurface& S = f.side[side];
+  std::optional<SegmentGrid> grid;
+  const double capture = capture_ * f.h;
+  std::vector<Vec2> normals;
+  if (f.die < 0) {
+    grid.emplace(x, f.side[1 - side], capture);
+    normals = node_normals(x, S);
+  }
+  for (int l = 0; l < static_cast<int>(S.nodes.size()); ++l) {
+    const Index n = S.nodes[l];
+    char& active = f.active[side][l];
+    Pair p;
+    p.iface = iface;
+    p.side = side;
+    p.local = l;
+    if (f.die >= 0) {
+      const Die& d = scene_.dies[f.die];
+      const DieProjection proj = d.project(x[n], v.time);
+      p.kin.k = 1;
+      p.kin.nodes = {n, 0, 0};
+      p.kin.offset = d.motion.velocity(v.time);
+      p.kin.n = proj.normal;
+      p.kin.gap0 = proj.distance;
+    } else {
+      const ContactSurface& M = f.side[1 - side];
+      const auto hit = find_segment(x, M, *grid, x[n], capture, normals[l]);
+      if (!hit) {
+        if (active) {
+          active = 0;
+          events_.push_back("node " + std::to_string(n) + " leaves the master surface of " + f.name);
+        }
+        continue;
+      }
+      const Edge& e = M.edges[hit->edge];
+      p.kin.k = 3;
+      p.kin.nodes = {n, e.a, e.b};
+      p.kin.c = {1.0, -(1.0 - hit->xi), -hit->xi};
+      p.kin.n = hit->normal;
+      p.kin.gap0 = hit->gap;
+    }
+    // The gap where the solved velocity moves the nodes from (the start of
+    // the step, in the midpoint scheme's half-step solve): the same master
+    // point, moved back by the relative displacement in between.
+    p.kin.gap_from = p.kin.gap0;
+    if (v.x_from && v.x_from != v.x) {
+      const auto& x0 = *v.x_from;
+      Vec2 back = x[n] - x0[n];
+      if (f.die >= 0) {
+        const DieMotion& m = scene_.dies[f.die].motion;
+        back -= m.displacement(v.time) - m.displacement(v.time_from);
+      } else {
+        for (int a = 1; a < 3; ++a) back += p.kin.c[a] * (x[p.kin.nodes[a]] - x0[p.kin.nodes[a]]);
+      }
+      p.kin.gap_from -= back.dot(p.kin.n);
+    }
+    if (!active && p.kin.gap0 <= touch_tol_) {
+      active = 1;
+      events_.push_back("touch node " + std::to_string(n) + " on " + f.name);
+    }
+    p.active = active;
+    pairs_.push_back(p);
+  }
+}
+
+void PenaltyContact::set_laws(const StepView& v) {
+  const auto& x = *v.x;
+  // Per interface side: each surface node's lumped area (all its edges:
+  // the penalty weight), its area over edges with both ends active (the
+  // friction bound's), the shear-yield bound and the local element size.
+  struct NodeData {
+    double w = 0, w_active = 0, kw = 0, len = 0;
+    int edges = 0;
+  };
+  std::vector<std::array<std::vector<NodeData>, 2>> data(ifaces_.size());
+  for (std::size_t i = 0; i < ifaces_.size(); ++i)
+    for (int s = 0; s < 2; ++s) {
+      const Interface& f = ifaces_[i];
+      const ContactSurface& S = f.side[s];
+      auto& d = data[i][s];
+      d.assign(S.nodes.size(), {});
+      auto local = [&](Index n) {
+        return static_cast<int>(std::lower_bound(S.nodes.begin(), S.nodes.end(), n) - S.nodes.begin());
+      };
+      for (const Edge& e : S.edges) {
+        const int a = local(e.a), b = local(e.b);
+        const auto w = edge_weights(x[e.a], x[e.b], v.geometry);
+        const double L = (x[e.b] - x[e.a]).norm();
+        d[a].w += w[0], d[b].w += w[1];
+        d[a].len += L, d[b].len += L;
+        ++d[a].edges, ++d[b].edges;
+        if (f.active[s][a] && f.active[s][b]) {
+          const double k = (*v.flow_stress)[e.element] / std::sqrt(3.0);  // shear yield stress (von Mises)
+          d[a].w_active += w[0], d[b].w_active += w[1];
+          d[a].kw += k * w[0], d[b].kw += k * w[1];
+        }
+      }
+    }
+  for (Pair& p : pairs_) {
+    const Interface& f = ifaces_[p.iface];
+    const NodeData& d = data[p.iface][p.side][p.local];
+    p.weight = d.w;
+    p.h = d.edges ? d.len / d.edges : f.h;
+    p.law.beta = f.beta_hat * d.w;
+    p.law.inv_dt = gap_correction_ && v.dt > 0 ? 1.0 / v.dt : 0.0;
+    p.law.kind = f.friction.kind;
+    p.law.m = f.friction.m;
+    p.law.mu = f.friction.mu;
+    p.law.a = f.friction.a_relative * speed_scale_;
+    // The sticking bound k w of the softer side: the master element's k
+    // over the slave node's area is the other candidate.
+    double kw = d.kw;
+    if (f.die < 0 && p.kin.k == 3) {
+      const ContactSurface& M = f.side[1 - p.side];
+      for (const Edge& e : M.edges)
+        if (e.a == p.kin.nodes[1] && e.b == p.kin.nodes[2])
+          kw = std::min(kw, (*v.flow_stress)[e.element] / std::sqrt(3.0) * d.w_active);
+    }
+    // Two-pass: each pass carries half the friction of the interface
+    // (Coulomb's share follows from each pass's own normal force).
+    p.law.k_weight = two_pass_ && f.die < 0 ? 0.5 * kw : kw;
+  }
+}
+
+PairResult PenaltyContact::evaluate(const Pair& p, const std::vector<Vec2>& vel, bool hess) const {
+  std::array<Vec2, 3> v{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+  for (int a = 0; a < p.kin.k; ++a) v[a] = vel[p.kin.nodes[a]];
+  PairLaw law = p.law;
+  law.a *= a_factor_;
+  return pair_terms(p.kin, law, v, hess);
+}
+
+std::array<Vec2, 3> PenaltyContact::pair_forces(const Pair& p) const {
+  std::array<Vec2, 3> f{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+  for (int a = 0; a < p.kin.k; ++a) f[a] = -Vec2(p.res.grad[2 * a], p.res.grad[2 * a + 1]);
+  return f;
+}
+
+void PenaltyContact::couplings(const StepView&, std::vector<std::vector<Index>>& out) const {
+  for (const Pair& p : pairs_)
+    if (p.active && p.kin.k > 1) out.push_back({p.kin.nodes.begin(), p.kin.nodes.begin() + p.kin.k});
+}
+
+void PenaltyContact::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
+  for (const Pair& p : pairs_) {
+    if (!p.active) continue;
+    const PairResult r = evaluate(p, vel, true);
+    sink.add(p.kin.nodes.data(), p.kin.k, r.energy, r.grad.data(), r.hess.data());
+  }
+}
+
+StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>&) {
+  StepCheck out;
+  out.events.swap(events_);
+  double scale = 0;
+  for (Pair& p : pairs_) {
+    p.res = p.active ? evaluate(p, vel, false) : PairResult{};
+    scale = std::max(scale, std::abs(p.res.normal_force));
+  }
+  active_pairs_ = 0;
+  bool released = false, touched = false;
+  for (Pair& p : pairs_) {
+    if (!p.active) {
+      // A free slave node that this velocity would carry into its master
+      // within the step (it touches in less than the step, or after
+      // limit_dt's landing prediction from the previous velocity missed):
+      // in contact now, solve again.
+      // A node released in this step stays free for it (no flip-flop).
+      const double end_gap = p.kin.gap_from + v.dt * evaluate(p, vel, false).gamma_n;
+      if (v.dt > 0 && end_gap < -touch_tol_ && !p.released) {
+        p.active = true;
+        ifaces_[p.iface].active[p.side][p.local] = 1;
+        touched = true;
+        out.events.push_back("touch node " + std::to_string(p.kin.nodes[0]) + " on " + ifaces_[p.iface].name +
+                             " (within the step)");
+      }
+      continue;
+    }
+    // The penalty pushes the slave out along +n: a negative normal force
+    // pulls the bodies together.
+    if (p.res.normal_force < -release_tol_ * scale) {
+      p.active = false;
+      p.released = true;
+      p.res = PairResult{};
+      ifaces_[p.iface].active[p.side][p.local] = 0;
+      released = true;
+      out.events.push_back("release node " + std::to_string(p.kin.nodes[0]) + " from " + ifaces_[p.iface].name);
+    } else {
+      ++active_pairs_;
+    }
+  }
+  if (released || touched) {
+    set_laws(v);
+    out.resolve = true;
+  }
+  // Continuation in the friction smoothing at the run's first solve.
+  if (a_factor_ > 1) {
+    a_factor_ = std::max(1.0, a_factor_ / 10);
+    out.resolve = true;
+  }
+  return out;
+}
+
+std::optional<double> PenaltyContact::limit_dt(const StepView& v, const std::vector<Vec2>& vel) const {
+  std::optional<double> limit;
+  for (const Pair& p : pairs_) {
+    if (p.active || p.kin.gap0 <= 0) continue;
+    Vec2 u = -p.kin.offset;
+    for (int a = 0; a < p.kin.k; ++a) u += p.kin.c[a] * vel[p.kin.nodes[a]];
+    const double closing = -u.dot(p.kin.n);
+    if (closing <= 0) continue;
+    const double t = p.kin.gap0 / closing;
+    if (t < v.dt && (!limit || t < *limit)) limit = t;
+  }
+  if (limit && *limit < 1e-6 * v.dt) return std::nullopt;
+  return limit;
+}
+
+std::optional<double> PenaltyContact::reference_speed(const std::string& name) const {
+  for (const auto& d : scene_.dies)
+    if (d.name == name) return d.motion.max_speed();
+  return std::nullopt;
+}
+
+void PenaltyContact::contact_forces(const StepView&, const std::vector<Vec2>& vel, const std::vector<Vec2>&,
+                                    std::vector<Vec2>& out) const {
+  out.assign(vel.size(), Vec2::Zero());
+  for (const Pair& p : pairs_) {
+    if (!p.active) continue;
+    const auto f = pair_forces(p);
+    for (int a = 0; a < p.kin.k; ++a) out[p.kin.nodes[a]] += f[a];
+  }
+}
+
+std::vector<std::string> PenaltyContact::load_names() const {
+  std::vector<std::string> n;
+  for (const auto& d : scene_.dies) n.push_back(d.name);
+  return n;
+}
+
+std::vector<Vec2> PenaltyContact::loads(const StepView& v, const std::vector<Vec2>&) const {
+  // A die's load: the force it exerts on the bodies (as in `direct`).
+  std::vector<Vec2> out;
+  for (int d = 0; d < static_cast<int>(scene_.dies.size()); ++d) {
+    Vec2 sum = Vec2::Zero();
+    std::vector<Index> nodes;
+    for (const Pair& p : pairs_)
+      if (p.active && ifaces_[p.iface].die == d) {
+        sum += pair_forces(p)[0];
+        nodes.push_back(p.kin.nodes[0]);
+      }
+    out.push_back(sum.cwiseProduct(symmetry_load_factor(scene_.symmetry, *v.x, nodes, sym_tol_)));
+  }
+  return out;
+}
+
+void PenaltyContact::node_fields(const StepView& v, std::map<std::string, std::vector<double>>& out) const {
+  const std::size_t n = v.x->size();
+  auto& pr = out["contact_pressure"];
+  auto& sh = out["contact_shear"];
+  auto& slip = out["slip_velocity"];
+  auto& gap = out["contact_gap"];
+  for (auto* f : {&pr, &sh, &slip, &gap}) f->assign(n, 0.0);
+  for (const Pair& p : pairs_) {
+    const Index s = p.kin.nodes[0];
+    gap[s] = p.kin.gap0;
+    if (!p.active || !(p.weight > 0)) continue;
+    pr[s] += p.res.normal_force / p.weight;
+    sh[s] += p.res.friction / p.weight;
+    slip[s] = p.res.gamma_t;
+  }
+}
+
+std::vector<std::string> PenaltyContact::report_names() const {
+  std::vector<std::string> n{"contact_pairs", "max_penetration", "max_penetration_rel"};
+  if (any_bodies_) n.insert(n.end(), {"master_penetration_rel", "force_imbalance", "role_switches"});
+  for (const auto& b : scene_.mesh.body_names)
+    for (const char* q : {".contact_Fx", ".contact_Fy", ".normal_force", ".friction_force"}) n.push_back(b + q);
+  return n;
+}
+
+std::vector<double> PenaltyContact::report() const {
+  const int nb = scene_.mesh.num_bodies();
+  std::vector<Vec2> resultant(nb, Vec2::Zero());
+  std::vector<double> normal(nb, 0.0), friction(nb, 0.0);
+  // Per body-body interface, the resultant on each side (action-reaction).
+  std::vector<std::array<Vec2, 2>> side_force(ifaces_.size(), {Vec2::Zero(), Vec2::Zero()});
+  for (const Pair& p : pairs_) {
+    if (!p.active) continue;
+    const auto f = pair_forces(p);
+    for (int a = 0; a < p.kin.k; ++a) {
+      const int b = scene_.mesh.node_body[p.kin.nodes[a]];
+      resultant[b] += f[a];
+      const bool slave = a == 0;
+      side_force[p.iface][slave ? p.side : 1 - p.side] += f[a];
+    }
+    const int bs = scene_.mesh.node_body[p.kin.nodes[0]];
+    normal[bs] += p.res.normal_force;
+    friction[bs] += std::abs(p.res.friction);
+    if (p.kin.k == 3) {
+      const int bm = scene_.mesh.node_body[p.kin.nodes[1]];
+      normal[bm] += p.res.normal_force;
+      friction[bm] += std::abs(p.res.friction);
+    }
+  }
+  std::vector<double> r{double(active_pairs_), max_penetration_, max_penetration_rel_};
+  if (any_bodies_) {
+    double imbalance = 0;
+    for (std::size_t i = 0; i < ifaces_.size(); ++i) {
+      if (ifaces_[i].die >= 0) continue;
+      const double big = std::max(side_force[i][0].norm(), side_force[i][1].norm());
+      if (big > 0) imbalance = std::max(imbalance, (side_force[i][0] + side_force[i][1]).norm() / big);
+    }
+    r.push_back(master_penetration_);
+    r.push_back(imbalance);
+    r.push_back(role_switches_);
+  }
+  for (int b = 0; b < nb; ++b) {
+    // In axisymmetry radial forces cancel around the circumference.
+    r.push_back(scene_.geometry == Geometry::Axisymmetric ? 0.0 : resultant[b](0));
+    r.push_back(resultant[b](1));
+    r.push_back(normal[b]);
+    r.push_back(friction[b]);
+  }
+  return r;
+}
+
+std::vector<NamedValue> PenaltyContact::derived() const {
+  std::vector<NamedValue> out{{"penalty.speed_scale_mm_s", speed_scale_}, {"penalty.touch_tolerance_mm", touch_tol_}};
+  for (const auto& f : ifaces_) {
+    out.push_back({"penalty." + f.name + ".beta_MPa_s_mm", f.beta_hat});
+    out.push_back({"penalty." + f.name + ".element_size_mm", f.h});
+    out.push_back({"penalty." + f.name + ".sigma_ref_MPa", f.sigma_ref});
+  }
+  return out;
+}
+
+}  // namespace rpfem

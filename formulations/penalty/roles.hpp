@@ -1,0 +1,30 @@
+// Slave and master between two deformable bodies, Hallquist's rule (Hallquist,
+// Goudreau, Benson 1985; paper sec. 2): the body whose nodes penetrate the
+// other's boundary is the slave. One-pass contact holds only the slave's
+// nodes out of the master, so when the master's nodes penetrate the slave
+// more than the other way round the roles switch. At the start, with no
+// penetration either way, the finer surface (shorter mean edge) is the slave.
+#pragma once
+#include <vector>
+
+#include "contact/segment_search.hpp"
+
+namespace rpfem {
+
+struct Penetrations {
+  int count = 0;       // nodes deeper than the tolerance
+  double deepest = 0;  // mm, over all nodes inside
+};
+
+// Nodes of `from` that lie inside `into` by more than tol (mm).
+Penetrations count_penetrations(const std::vector<Vec2>& x, const ContactSurface& from, const ContactSurface& into,
+                                const SegmentGrid& grid_into, double capture, double tol);
+
+double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s);
+
+// The slave side (0 or 1) after this configuration: `current` unless the
+// master's nodes penetrate the slave at more nodes than the slave's nodes
+// penetrate the master.
+int hallquist_slave(int current, const Penetrations& from0, const Penetrations& from1);
+
+}  // namespace rpfem

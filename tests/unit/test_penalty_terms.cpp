@@ -1,0 +1,142 @@
+// The penalty formulation's pair term (formulations/penalty/pair_terms.*,
+// paper eq. 7-12): gradient and Hessian, including Coulomb friction's
+// unsymmetric consistent tangent, against finite differences; action equals
+// reaction; Hallquist's rule for the slave side.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "penalty/pair_terms.hpp"
+#include "penalty/roles.hpp"
+
+using namespace rpfem;
+
+namespace {
+
+PairKinematics body_pair() {
+  PairKinematics k;
+  k.k = 3;
+  k.nodes = {0, 1, 2};
+  k.c = {1.0, -0.7, -0.3};
+  k.n = Vec2(0.3, 1.0).normalized();
+  k.gap0 = k.gap_from = -2e-4;
+  return k;
+}
+
+PairLaw law(FrictionLaw::Kind kind) {
+  PairLaw l;
+  l.beta = 5e3;
+  l.inv_dt = 10;
+  l.kind = kind;
+  l.m = 0.4;
+  l.mu = 0.2;
+  l.k_weight = 50;
+  l.a = 0.01;
+  return l;
+}
+
+void check_derivatives(const PairKinematics& k, const PairLaw& l, const std::array<Vec2, 3>& v, bool potential) {
+  const PairResult r = pair_terms(k, l, v, true);
+  const int nd = 2 * k.k;
+  for (int j = 0; j < nd; ++j) {
+    const double h = 1e-7;
+    auto vp = v, vm = v;
+    vp[j / 2](j % 2) += h;
+    vm[j / 2](j % 2) -= h;
+    const PairResult rp = pair_terms(k, l, vp, false), rm = pair_terms(k, l, vm, false);
+    if (potential) EXPECT_NEAR(r.grad[j], (rp.energy - rm.energy) / (2 * h), 1e-5 * (1 + std::abs(r.grad[j]))) << j;
+    for (int i = 0; i < nd; ++i) {
+      const double fd = (rp.grad[i] - rm.grad[i]) / (2 * h);
+      EXPECT_NEAR(r.hess[j * nd + i], fd, 1e-5 * (1 + std::abs(fd))) << i << "," << j;
+    }
+  }
+}
+
+}  // namespace
+
+TEST(PenaltyPair, NormalTermMatchesFiniteDifferences) {
+  const std::array<Vec2, 3> v{Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)};
+  check_derivatives(body_pair(), law(FrictionLaw::Kind::None), v, true);
+}
+
+TEST(PenaltyPair, FrictionFactorIsAPotentialWithExactHessian) {
+  for (double slip : {-0.3, -0.004, 0.0, 0.002, 0.5}) {
+    const std::array<Vec2, 3> v{Vec2(slip, -0.5), Vec2(0.0, 0.2), Vec2(0.0, 0.1)};
+    check_derivatives(body_pair(), law(FrictionLaw::Kind::Factor), v, true);
+  }
+}
+
+TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
+  const std::array<Vec2, 3> v{Vec2(0.003, -0.5), Vec2(0.0, 0.2), Vec2(0.0, 0.1)};
+  const PairKinematics k = body_pair();
+  PairLaw l = law(FrictionLaw::Kind::Coulomb);
+  l.k_weight = 1e4;
+  const PairResult r = pair_terms(k, l, v, true);
+  ASSERT_GT(r.normal_force, 0);                        // pressing
+  ASSERT_LT(l.mu * r.normal_force, l.k_weight);        // below the sticking cap: B = mu N
+  EXPECT_NEAR(r.bound, l.mu * r.normal_force, 1e-12);
+  check_derivatives(k, l, v, false);
+  double asym = 0;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) asym = std::max(asym, std::abs(r.hess[j * 6 + i] - r.hess[i * 6 + j]));
+  EXPECT_GT(asym, 1e-3);
+  // Capped at k w: B no longer depends on N, the tangent is symmetric again.
+  PairLaw capped = l;
+  capped.k_weight = 1e-3;
+  const PairResult c = pair_terms(k, capped, v, true);
+  EXPECT_NEAR(c.bound, 1e-3, 1e-15);
+  check_derivatives(k, capped, v, true);
+}
+
+TEST(PenaltyPair, ActionEqualsReaction) {
+  const std::array<Vec2, 3> v{Vec2(0.2, -0.5), Vec2(0.01, 0.2), Vec2(-0.03, 0.1)};
+  const PairResult r = pair_terms(body_pair(), law(FrictionLaw::Kind::Coulomb), v, false);
+  Vec2 sum = Vec2::Zero();
+  for (int a = 0; a < 3; ++a) sum += Vec2(r.grad[2 * a], r.grad[2 * a + 1]);
+  EXPECT_LT(sum.norm(), 1e-12 * Vec2(r.grad[0], r.grad[1]).norm());
+}
+
+TEST(PenaltyPair, GapCorrectionAimsAtZeroGapAtTheEndOfTheStep) {
+  // A die pair: the node at rest against a die moving at 1 mm/s toward it,
+  // 0.01 mm inside. Minimizing the penalty alone: gamma_N = -g0/dt.
+  PairKinematics k;
+  k.k = 1;
+  k.n = Vec2(0, 1);
+  k.offset = Vec2(0, -1);
+  k.gap0 = k.gap_from = -0.01;
+  PairLaw l = law(FrictionLaw::Kind::None);
+  // r = (v - v_die).n + g0/dt = 0 at v_y = -1 + 0.01 * 10.
+  const PairResult r = pair_terms(k, l, {Vec2(0, -0.9), Vec2::Zero(), Vec2::Zero()}, false);
+  EXPECT_NEAR(r.gamma_n, 0.1, 1e-15);
+  EXPECT_NEAR(r.normal_force, 0.0, 1e-12);
+}
+
+TEST(HallquistRule, TheBodyThatPenetratesBecomesTheSlave) {
+  Penetrations none, some{3, 0.01}, more{5, 0.02};
+  EXPECT_EQ(hallquist_slave(0, none, none), 0);  // nothing penetrates: keep
+  EXPECT_EQ(hallquist_slave(0, none, some), 1);  // the master's nodes penetrate: switch
+  EXPECT_EQ(hallquist_slave(1, some, none), 0);
+  EXPECT_EQ(hallquist_slave(0, more, some), 0);  // the slave's own penetrate more: keep
+  EXPECT_EQ(hallquist_slave(1, some, some), 1);  // a tie keeps the roles
+}
+
+TEST(HallquistRule, PenetrationsCountedOnCraftedSurfaces) {
+  // Lower body's top y = 0 (walked right to left); upper body's bottom
+  // y = 0.1 walked left to right with two nodes pushed below y = 0.
+  std::vector<Vec2> x;
+  ContactSurface lower, upper;
+  for (int i = 0; i <= 4; ++i) x.emplace_back(4 - i, 0.0);
+  for (Index i = 0; i < 4; ++i) lower.edges.push_back({i, i + 1, 0});
+  for (Index i = 0; i <= 4; ++i) lower.nodes.push_back(i);
+  for (int i = 0; i <= 4; ++i) x.emplace_back(i + 0.5, (i == 1 || i == 2) ? -0.05 : 0.1);
+  for (Index i = 5; i < 9; ++i) upper.edges.push_back({i, i + 1, 1});
+  for (Index i = 5; i <= 9; ++i) upper.nodes.push_back(i);
+  const SegmentGrid g_lower(x, lower, 0.5), g_upper(x, upper, 0.5);
+  const Penetrations up_into_low = count_penetrations(x, upper, lower, g_lower, 0.5, 1e-3);
+  const Penetrations low_into_up = count_penetrations(x, lower, upper, g_upper, 0.5, 1e-3);
+  EXPECT_EQ(up_into_low.count, 2);
+  EXPECT_NEAR(up_into_low.deepest, 0.05, 1e-12);
+  // The roles switch to make the upper body the slave if it was the master.
+  EXPECT_EQ(hallquist_slave(1, up_into_low, low_into_up), 0);
+  EXPECT_EQ(up_into_low.count > low_into_up.count, true);
+}
