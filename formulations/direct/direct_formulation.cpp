@@ -24,9 +24,7 @@ DirectContact::DirectContact(const Scene& scene, CaseSection settings)
   if (friction_.any() && !(largest_die_speed(scene) > 0))
     throw InputError(scene.file + ": key 'dies.<name>.friction.a' is relative to the largest die speed, "
                                   "but no die moves");
-  Vec2 lo = scene.mesh.x.front(), hi = lo;
-  for (const auto& p : scene.mesh.x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const double size = (hi - lo).maxCoeff();
+  const double size = scene.mesh.size();
   touch_tol_ = settings.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
   release_tol_ = settings.real("release_tolerance", 1e-9, Range::nonnegative(), "relative to the largest contact force");
   coulomb_tol_ = settings.real("coulomb_tolerance", 1e-4, Range::positive(),
@@ -38,9 +36,7 @@ DirectContact::DirectContact(const Scene& scene, CaseSection settings)
     if (!pair.with_die())
       throw InputError(scene.file + ": the contact pair of bodies '" + pair.body + "' and '" + pair.with_body +
                        "' needs a formulation for contact between bodies ('penalty'); 'direct' treats rigid dies only");
-    const int die = static_cast<int>(std::find_if(scene.dies.begin(), scene.dies.end(),
-                                                  [&](const Die& d) { return d.name == pair.die; }) -
-                                     scene.dies.begin());
+    const int die = pair.die_id;
     auto candidate = [&](Index n) {
       auto [it, fresh] = index.try_emplace({n, die}, static_cast<int>(cand_.size()));
       if (fresh) {

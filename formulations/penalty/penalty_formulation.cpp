@@ -11,12 +11,6 @@ namespace rpfem {
 
 namespace {
 
-int body_index(const Scene& s, const std::string& name) {
-  for (int b = 0; b < static_cast<int>(s.bodies.size()); ++b)
-    if (s.bodies[b].name == name) return b;
-  return -1;
-}
-
 // The largest prescribed speed of the scene (dies and velocity groups), mm/s.
 double largest_speed(const Scene& s) {
   double v = 0;
@@ -30,9 +24,7 @@ double largest_speed(const Scene& s) {
 PenaltyContact::PenaltyContact(const Scene& scene, CaseSection settings) : scene_(scene) {
   if (scene.contact_pairs.empty())
     throw InputError(scene.file + ": formulation 'penalty' needs at least one [[contact_pairs]] entry");
-  Vec2 lo = scene.mesh.x.front(), hi = lo;
-  for (const auto& p : scene.mesh.x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const double size = (hi - lo).maxCoeff();
+  const double size = scene.mesh.size();
   speed_scale_ = largest_speed(scene);
   if (!(speed_scale_ > 0)) throw InputError(scene.file + ": formulation 'penalty' scales beta by the largest "
                                                          "prescribed speed, but nothing moves");
@@ -49,19 +41,17 @@ PenaltyContact::PenaltyContact(const Scene& scene, CaseSection settings) : scene
   for (const auto& pair : scene.contact_pairs) {
     Interface f;
     f.side[0] = ContactSurface::from_sides(scene.mesh, pair.sides);
-    const int b0 = body_index(scene, pair.body);
-    f.sigma_ref = scene.bodies[b0].law.yield(0.0);
+    f.sigma_ref = scene.bodies[pair.body_id].law.yield(0.0);
     if (pair.with_die()) {
       f.name = pair.body + "-" + pair.die;
-      f.die = static_cast<int>(std::find_if(scene.dies.begin(), scene.dies.end(),
-                                            [&](const Die& d) { return d.name == pair.die; }) - scene.dies.begin());
+      f.die = pair.die_id;
       f.friction = scene.dies[f.die].friction;
       f.h = mean_edge_length(scene.mesh.x, f.side[0]);
     } else {
       f.name = pair.body + "-" + pair.with_body;
       f.side[1] = ContactSurface::from_sides(scene.mesh, pair.with_sides);
       f.friction = pair.friction;
-      f.sigma_ref = std::min(f.sigma_ref, scene.bodies[body_index(scene, pair.with_body)].law.yield(0.0));
+      f.sigma_ref = std::min(f.sigma_ref, scene.bodies[pair.with_body_id].law.yield(0.0));
       const double h0 = mean_edge_length(scene.mesh.x, f.side[0]), h1 = mean_edge_length(scene.mesh.x, f.side[1]);
       f.slave = h1 < h0 ? 1 : 0;  // the finer surface starts as the slave
       f.h = std::min(h0, h1);
@@ -84,30 +74,33 @@ void PenaltyContact::begin_step(const StepView& v) {
   for (int i = 0; i < static_cast<int>(ifaces_.size()); ++i) {
     Interface& f = ifaces_[i];
     if (f.die >= 0) {
-      collect_pairs(v, i, 0);
+      collect_pairs(v, i, 0, {});
       continue;
     }
-    if (!two_pass_) {
-      const double capture = capture_ * f.h;
-      const SegmentGrid g0(x, f.side[0], capture), g1(x, f.side[1], capture);
-      const double tol = switch_tol_ * f.h;
-      const Penetrations from0 = count_penetrations(x, f.side[0], f.side[1], g1, capture, tol);
-      const Penetrations from1 = count_penetrations(x, f.side[1], f.side[0], g0, capture, tol);
-      const int slave = hallquist_slave(f.slave, from0, from1);
-      // What one-pass lets through: the master's nodes inside the slave.
-      master_penetration_ = std::max(master_penetration_, (slave == 0 ? from1 : from0).deepest / f.h);
-      if (slave != f.slave) {
-        std::fill(f.active[f.slave].begin(), f.active[f.slave].end(), 0);
-        f.slave = slave;
-        ++role_switches_;
-        events_.push_back("interface " + f.name + ": roles switch, the slave is now " +
-                          scene_.mesh.body_names[f.side[slave].body]);
-      }
-      collect_pairs(v, i, f.slave);
-    } else {
-      collect_pairs(v, i, 0);
-      collect_pairs(v, i, 1);
+    // Each side's nodes searched once on the other side: the hits decide
+    // the roles (one pass) and make the slave's pairs.
+    const double capture = capture_ * f.h;
+    const SegmentGrid g0(x, f.side[0], capture), g1(x, f.side[1], capture);
+    const auto hits0 = find_segments(x, f.side[0], f.side[1], g1, capture);
+    const auto hits1 = find_segments(x, f.side[1], f.side[0], g0, capture);
+    if (two_pass_) {
+      collect_pairs(v, i, 0, hits0);
+      collect_pairs(v, i, 1, hits1);
+      continue;
     }
+    const double tol = switch_tol_ * f.h;
+    const Penetrations from0 = count_penetrations(hits0, tol), from1 = count_penetrations(hits1, tol);
+    const int slave = hallquist_slave(f.slave, from0, from1);
+    // What one pass lets through: the master's nodes inside the slave.
+    master_penetration_ = std::max(master_penetration_, (slave == 0 ? from1 : from0).deepest / f.h);
+    if (slave != f.slave) {
+      std::fill(f.active[f.slave].begin(), f.active[f.slave].end(), 0);
+      f.slave = slave;
+      ++role_switches_;
+      events_.push_back("interface " + f.name + ": roles switch, the slave is now " +
+                        scene_.mesh.body_names[f.side[slave].body]);
+    }
+    collect_pairs(v, i, slave, slave == 0 ? hits0 : hits1);
   }
   set_laws(v);
   max_penetration_ = max_penetration_rel_ = 0;
@@ -118,20 +111,14 @@ void PenaltyContact::begin_step(const StepView& v) {
     }
 }
 
-void PenaltyContact::collect_pairs(const StepView& v, int iface, int side) {
+void PenaltyContact::collect_pairs(const StepView& v, int iface, int side,
+                                   const std::vector<std::optional<SegmentHit>>& hits) {
   Interface& f = ifaces_[iface];
   const auto& x = *v.x;
   const ContactSurface& S = f.side[side];
-  std::optional<SegmentGrid> grid;
-  const double capture = capture_ * f.h;
-  std::vector<Vec2> normals;
-  if (f.die < 0) {
-    grid.emplace(x, f.side[1 - side], capture);
-    normals = node_normals(x, S);
-  }
   for (int l = 0; l < static_cast<int>(S.nodes.size()); ++l) {
     const Index n = S.nodes[l];
-    char& active = f.active[side][l];
+    char& state = f.active[side][l];
     Pair p;
     p.iface = iface;
     p.side = side;
@@ -145,16 +132,16 @@ void PenaltyContact::collect_pairs(const StepView& v, int iface, int side) {
       p.kin.n = proj.normal;
       p.kin.gap0 = proj.distance;
     } else {
-      const ContactSurface& M = f.side[1 - side];
-      const auto hit = find_segment(x, M, *grid, x[n], capture, normals[l]);
+      const auto& hit = hits[l];
       if (!hit) {
-        if (active) {
-          active = 0;
+        if (state) {
+          state = 0;
           events_.push_back("node " + std::to_string(n) + " leaves the master surface of " + f.name);
         }
         continue;
       }
-      const Edge& e = M.edges[hit->edge];
+      const Edge& e = f.side[1 - side].edges[hit->edge];
+      p.master_element = e.element;
       p.kin.k = 3;
       p.kin.nodes = {n, e.a, e.b};
       p.kin.c = {1.0, -(1.0 - hit->xi), -hit->xi};
@@ -176,11 +163,10 @@ void PenaltyContact::collect_pairs(const StepView& v, int iface, int side) {
       }
       p.kin.gap_from -= back.dot(p.kin.n);
     }
-    if (!active && p.kin.gap0 <= touch_tol_) {
-      active = 1;
+    if (!state && p.kin.gap0 <= touch_tol_) {
+      state = 1;
       events_.push_back("touch node " + std::to_string(n) + " on " + f.name);
     }
-    p.active = active;
     pairs_.push_back(p);
   }
 }
@@ -201,11 +187,8 @@ void PenaltyContact::set_laws(const StepView& v) {
       const ContactSurface& S = f.side[s];
       auto& d = data[i][s];
       d.assign(S.nodes.size(), {});
-      auto local = [&](Index n) {
-        return static_cast<int>(std::lower_bound(S.nodes.begin(), S.nodes.end(), n) - S.nodes.begin());
-      };
       for (const Edge& e : S.edges) {
-        const int a = local(e.a), b = local(e.b);
+        const int a = S.local(e.a), b = S.local(e.b);
         const auto w = edge_weights(x[e.a], x[e.b], v.geometry);
         const double L = (x[e.b] - x[e.a]).norm();
         d[a].w += w[0], d[b].w += w[1];
@@ -232,12 +215,7 @@ void PenaltyContact::set_laws(const StepView& v) {
     // The sticking bound k w of the softer side: the master element's k
     // over the slave node's area is the other candidate.
     double kw = d.kw;
-    if (f.die < 0 && p.kin.k == 3) {
-      const ContactSurface& M = f.side[1 - p.side];
-      for (const Edge& e : M.edges)
-        if (e.a == p.kin.nodes[1] && e.b == p.kin.nodes[2])
-          kw = std::min(kw, (*v.flow_stress)[e.element] / std::sqrt(3.0) * d.w_active);
-    }
+    if (p.master_element >= 0) kw = std::min(kw, (*v.flow_stress)[p.master_element] / std::sqrt(3.0) * d.w_active);
     // Two-pass: each pass carries half the friction of the interface
     // (Coulomb's share follows from each pass's own normal force).
     p.law.k_weight = two_pass_ && f.die < 0 ? 0.5 * kw : kw;
@@ -258,15 +236,21 @@ std::array<Vec2, 3> PenaltyContact::pair_forces(const Pair& p) const {
   return f;
 }
 
+double PenaltyContact::gap_rate(const Pair& p, const std::vector<Vec2>& vel) const {
+  Vec2 u = -p.kin.offset;
+  for (int a = 0; a < p.kin.k; ++a) u += p.kin.c[a] * vel[p.kin.nodes[a]];
+  return u.dot(p.kin.n);
+}
+
 void PenaltyContact::couplings(const StepView&, std::vector<std::vector<Index>>& out) const {
   for (const Pair& p : pairs_)
-    if (p.active && p.kin.k > 1) out.push_back({p.kin.nodes.begin(), p.kin.nodes.begin() + p.kin.k});
+    if (active(p) && p.kin.k > 1) out.push_back({p.kin.nodes.begin(), p.kin.nodes.begin() + p.kin.k});
 }
 
 void PenaltyContact::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
   for (const Pair& p : pairs_) {
-    if (!p.active) continue;
-    const PairResult r = evaluate(p, vel, true);
+    if (!active(p)) continue;
+    const PairResult r = evaluate(p, vel, sink.needs_hessian());
     sink.add(p.kin.nodes.data(), p.kin.k, r.energy, r.grad.data(), r.hess.data());
   }
 }
@@ -276,22 +260,24 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
   out.events.swap(events_);
   double scale = 0;
   for (Pair& p : pairs_) {
-    p.res = p.active ? evaluate(p, vel, false) : PairResult{};
+    p.res = active(p) ? evaluate(p, vel, false) : PairResult{};
     scale = std::max(scale, std::abs(p.res.normal_force));
   }
   active_pairs_ = 0;
   bool released = false, touched = false;
   for (Pair& p : pairs_) {
-    if (!p.active) {
+    if (!active(p)) {
       // A free slave node that this velocity would carry into its master
       // within the step (it touches in less than the step, or after
       // limit_dt's landing prediction from the previous velocity missed):
       // in contact now, solve again.
       // A node released in this step stays free for it (no flip-flop).
-      const double end_gap = p.kin.gap_from + v.dt * evaluate(p, vel, false).gamma_n;
-      if (v.dt > 0 && end_gap < -touch_tol_ && !p.released) {
-        p.active = true;
-        ifaces_[p.iface].active[p.side][p.local] = 1;
+      // Only with the gap correction: without it an active pair keeps its
+      // gap, and a node made active short of its master would stay there.
+      if (!gap_correction_ || p.released || !(v.dt > 0)) continue;
+      const double end_gap = p.kin.gap_from + v.dt * gap_rate(p, vel);
+      if (end_gap < -touch_tol_) {
+        set_active(p, true);
         touched = true;
         out.events.push_back("touch node " + std::to_string(p.kin.nodes[0]) + " on " + ifaces_[p.iface].name +
                              " (within the step)");
@@ -301,10 +287,9 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
     // The penalty pushes the slave out along +n: a negative normal force
     // pulls the bodies together.
     if (p.res.normal_force < -release_tol_ * scale) {
-      p.active = false;
+      set_active(p, false);
       p.released = true;
       p.res = PairResult{};
-      ifaces_[p.iface].active[p.side][p.local] = 0;
       released = true;
       out.events.push_back("release node " + std::to_string(p.kin.nodes[0]) + " from " + ifaces_[p.iface].name);
     } else {
@@ -326,10 +311,8 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
 std::optional<double> PenaltyContact::limit_dt(const StepView& v, const std::vector<Vec2>& vel) const {
   std::optional<double> limit;
   for (const Pair& p : pairs_) {
-    if (p.active || p.kin.gap0 <= 0) continue;
-    Vec2 u = -p.kin.offset;
-    for (int a = 0; a < p.kin.k; ++a) u += p.kin.c[a] * vel[p.kin.nodes[a]];
-    const double closing = -u.dot(p.kin.n);
+    if (active(p) || p.kin.gap0 <= 0) continue;
+    const double closing = -gap_rate(p, vel);
     if (closing <= 0) continue;
     const double t = p.kin.gap0 / closing;
     if (t < v.dt && (!limit || t < *limit)) limit = t;
@@ -348,7 +331,7 @@ void PenaltyContact::contact_forces(const StepView&, const std::vector<Vec2>& ve
                                     std::vector<Vec2>& out) const {
   out.assign(vel.size(), Vec2::Zero());
   for (const Pair& p : pairs_) {
-    if (!p.active) continue;
+    if (!active(p)) continue;
     const auto f = pair_forces(p);
     for (int a = 0; a < p.kin.k; ++a) out[p.kin.nodes[a]] += f[a];
   }
@@ -367,7 +350,7 @@ std::vector<Vec2> PenaltyContact::loads(const StepView& v, const std::vector<Vec
     Vec2 sum = Vec2::Zero();
     std::vector<Index> nodes;
     for (const Pair& p : pairs_)
-      if (p.active && ifaces_[p.iface].die == d) {
+      if (active(p) && ifaces_[p.iface].die == d) {
         sum += pair_forces(p)[0];
         nodes.push_back(p.kin.nodes[0]);
       }
@@ -386,7 +369,7 @@ void PenaltyContact::node_fields(const StepView& v, std::map<std::string, std::v
   for (const Pair& p : pairs_) {
     const Index s = p.kin.nodes[0];
     gap[s] = p.kin.gap0;
-    if (!p.active || !(p.weight > 0)) continue;
+    if (!active(p) || !(p.weight > 0)) continue;
     pr[s] += p.res.normal_force / p.weight;
     sh[s] += p.res.friction / p.weight;
     slip[s] = p.res.gamma_t;
@@ -408,7 +391,7 @@ std::vector<double> PenaltyContact::report() const {
   // Per body-body interface, the resultant on each side (action-reaction).
   std::vector<std::array<Vec2, 2>> side_force(ifaces_.size(), {Vec2::Zero(), Vec2::Zero()});
   for (const Pair& p : pairs_) {
-    if (!p.active) continue;
+    if (!active(p)) continue;
     const auto f = pair_forces(p);
     for (int a = 0; a < p.kin.k; ++a) {
       const int b = scene_.mesh.node_body[p.kin.nodes[a]];

@@ -73,7 +73,7 @@ class PenaltyContact final : public ContactFormulation {
     PairLaw law;
     double weight = 0;    // mm^2, slave node's contact area share
     double h = 0;         // mm, local element size
-    bool active = false;
+    int master_element = -1;  // the master segment's element (body master)
     bool released = false;  // released in this step's passes
     PairResult res;       // at the last converged solve
   };
@@ -81,7 +81,14 @@ class PenaltyContact final : public ContactFormulation {
   const std::vector<Interface>& interfaces() const { return ifaces_; }
 
  private:
-  void collect_pairs(const StepView& v, int iface, int side);
+  // Candidate pairs of one slave side: for a body master from the side's
+  // search hits, for a die from its projection.
+  void collect_pairs(const StepView& v, int iface, int side, const std::vector<std::optional<SegmentHit>>& hits);
+  // The contact state lives in the interface (it persists across steps).
+  bool active(const Pair& p) const { return ifaces_[p.iface].active[p.side][p.local]; }
+  void set_active(const Pair& p, bool on) { ifaces_[p.iface].active[p.side][p.local] = on; }
+  // Relative normal velocity gamma_N of the pair at nodal velocities vel.
+  double gap_rate(const Pair& p, const std::vector<Vec2>& vel) const;
   void set_laws(const StepView& v);
   PairResult evaluate(const Pair& p, const std::vector<Vec2>& vel, bool hess) const;
   // Force of pair p on each of its nodes (the contact force on the bodies).

@@ -4,11 +4,9 @@
 
 namespace rpfem {
 
-Penetrations count_penetrations(const std::vector<Vec2>& x, const ContactSurface& from, const ContactSurface& into,
-                                const SegmentGrid& grid_into, double capture, double tol) {
+Penetrations count_penetrations(const std::vector<std::optional<SegmentHit>>& hits, double tol) {
   Penetrations p;
-  for (Index n : from.nodes) {
-    const auto hit = find_segment(x, into, grid_into, x[n], capture);
+  for (const auto& hit : hits) {
     if (hit && hit->gap < 0) p.deepest = std::max(p.deepest, -hit->gap);
     if (hit && hit->gap < -tol) ++p.count;
   }

@@ -16,9 +16,9 @@ struct Penetrations {
   double deepest = 0;  // mm, over all nodes inside
 };
 
-// Nodes of `from` that lie inside `into` by more than tol (mm).
-Penetrations count_penetrations(const std::vector<Vec2>& x, const ContactSurface& from, const ContactSurface& into,
-                                const SegmentGrid& grid_into, double capture, double tol);
+// From the search hits of one surface's nodes on the other (find_segments):
+// the nodes inside it by more than tol (mm), and the deepest.
+Penetrations count_penetrations(const std::vector<std::optional<SegmentHit>>& hits, double tol);
 
 double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s);
 

@@ -91,12 +91,11 @@ LeastSquaresLine least_squares_line(const Vec2& p, const Vec2& a, const Vec2& b)
 
 std::vector<Vec2> node_normals(const std::vector<Vec2>& x, const ContactSurface& s) {
   std::vector<Vec2> n(s.nodes.size(), Vec2::Zero());
-  auto local = [&](Index i) { return std::lower_bound(s.nodes.begin(), s.nodes.end(), i) - s.nodes.begin(); };
   for (const Edge& e : s.edges) {
     const Vec2 d = x[e.b] - x[e.a];
     if (!(d.norm() > 0)) continue;
-    n[local(e.a)] += outward(d);
-    n[local(e.b)] += outward(d);
+    n[s.local(e.a)] += outward(d);
+    n[s.local(e.b)] += outward(d);
   }
   for (Vec2& v : n)
     if (v.norm() > 0) v.normalize();
@@ -199,6 +198,16 @@ std::optional<SegmentHit> find_segment(const std::vector<Vec2>& x, const Contact
   h.gap = h.normal.dot(p - x[vertex]);
   h.at_vertex = true;
   return h;
+}
+
+std::vector<std::optional<SegmentHit>> find_segments(const std::vector<Vec2>& x, const ContactSurface& slave,
+                                                     const ContactSurface& master, const SegmentGrid& grid,
+                                                     double capture) {
+  const std::vector<Vec2> normals = node_normals(x, slave);
+  std::vector<std::optional<SegmentHit>> hits(slave.nodes.size());
+  for (std::size_t l = 0; l < slave.nodes.size(); ++l)
+    hits[l] = find_segment(x, master, grid, x[slave.nodes[l]], capture, normals[l]);
+  return hits;
 }
 
 }  // namespace rpfem

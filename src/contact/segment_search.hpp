@@ -11,20 +11,22 @@
 //           (A, B, S), 2 area = (B - A) x (S - A), gives the signed gap
 //           g = -2 area / |B - A| (> 0 outside the master, < 0 penetrated),
 //           and the projection parameter s = (S - A).(B - A) / |B - A|^2
-//           tells whether S lies over the segment (0 <= s <= 1).
+//           tells whether S lies over the segment (-0.05 <= s <= 1.05: a
+//           node landing on a vertex with round-off sees both segments).
 // Among the segments S lies over, the one with the smallest |g| is taken;
-// ties (S on a shared vertex, where the master surface has a kink at the
-// edge of a contact zone) go to the segment that faces the slave surface
-// best (its normal most opposite to the slave's normal at S), then to the
-// one S lies deeper over. A
-// node over none of them (beyond a convex corner of the master, or over a
-// sliver segment) is assigned to the nearest master vertex within the
-// capture distance, with the vertex's mean normal.
+// near-ties (|g| within 1e-3 of a segment length: S on or next to a shared
+// vertex, where the master surface has a kink at the edge of a contact
+// zone) go to the segment that faces the slave surface best (its normal
+// most opposite to the slave's normal at S), then to the one S lies deeper
+// over. A node over none of them (beyond a convex corner of the master, or
+// over a sliver segment) is assigned to the nearest master vertex within
+// the capture distance, with the vertex's mean normal.
 // The master surface at S is then the least-squares line through S, A and B
 // (paper Fig. 3): its direction gives the contact normal and tangent, and
 // the local coordinates of the three points on it give S's position xi on
 // the segment, which interpolates the master velocity (paper eq. 9, 12).
 #pragma once
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +41,10 @@ struct ContactSurface {
   std::vector<Index> nodes;  // sorted, unique
   // Builds the surface from named sides of one body ("<body>.<side>").
   static ContactSurface from_sides(const Mesh& mesh, const std::vector<std::string>& sides);
+  // Position of a surface node in `nodes`.
+  int local(Index node) const {
+    return static_cast<int>(std::lower_bound(nodes.begin(), nodes.end(), node) - nodes.begin());
+  }
 };
 
 struct SegmentHit {
@@ -72,6 +78,11 @@ class SegmentGrid {
 std::optional<SegmentHit> find_segment(const std::vector<Vec2>& x, const ContactSurface& master,
                                        const SegmentGrid& grid, const Vec2& p, double capture,
                                        const Vec2& slave_normal = Vec2::Zero());
+// find_segment for every node of `slave` (with its surface normal), indexed
+// like slave.nodes.
+std::vector<std::optional<SegmentHit>> find_segments(const std::vector<Vec2>& x, const ContactSurface& slave,
+                                                     const ContactSurface& master, const SegmentGrid& grid,
+                                                     double capture);
 // Outward unit normal at each node of a surface (the normalized sum of its
 // edges' normals), indexed like surface.nodes.
 std::vector<Vec2> node_normals(const std::vector<Vec2>& x, const ContactSurface& s);

@@ -209,20 +209,28 @@ Scene read_scene(CaseFile& file) {
   }
   for (CaseSection c : root.table_array("contact_pairs")) {
     ContactPair p;
+    auto body_id = [&](const std::string& name) {
+      for (int b = 0; b < static_cast<int>(sc.bodies.size()); ++b)
+        if (sc.bodies[b].name == name) return b;
+      return -1;
+    };
     p.body = c.text("body", std::nullopt);
-    if (!bodies.has(p.body)) c.fail("body", "no body named '" + p.body + "'");
+    p.body_id = body_id(p.body);
+    if (p.body_id < 0) c.fail("body", "no body named '" + p.body + "'");
     p.sides = side_list(c, "sides", p.body, sc.mesh);
     // The other side of the pair: a rigid die, or another body's sides.
     if (c.has("die") == c.has("with")) c.fail("die", "give either 'die' (a rigid die) or 'with' (another body)");
     if (c.has("die")) {
       p.die = c.text("die", std::nullopt);
-      if (std::none_of(sc.dies.begin(), sc.dies.end(), [&](const Die& d) { return d.name == p.die; }))
-        c.fail("die", "no die named '" + p.die + "'");
+      for (int d = 0; d < static_cast<int>(sc.dies.size()); ++d)
+        if (sc.dies[d].name == p.die) p.die_id = d;
+      if (p.die_id < 0) c.fail("die", "no die named '" + p.die + "'");
       if (c.has("with_sides")) c.fail("with_sides", "only with 'with' (another body)");
       if (c.has("friction")) c.fail("friction", "friction on a die is set in [dies.NAME.friction]");
     } else {
       p.with_body = c.text("with", std::nullopt);
-      if (!bodies.has(p.with_body)) c.fail("with", "no body named '" + p.with_body + "'");
+      p.with_body_id = body_id(p.with_body);
+      if (p.with_body_id < 0) c.fail("with", "no body named '" + p.with_body + "'");
       if (p.with_body == p.body) c.fail("with", "a body in contact with itself is not supported");
       p.with_sides = side_list(c, "with_sides", p.with_body, sc.mesh);
       p.friction = read_friction(c.section("friction"));

@@ -21,6 +21,13 @@ std::vector<Index> Mesh::side_nodes(const std::string& side) const {
   return n;
 }
 
+double Mesh::size() const {
+  if (x.empty()) return 0.0;
+  Vec2 lo = x.front(), hi = lo;
+  for (const auto& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  return (hi - lo).maxCoeff();
+}
+
 void Mesh::append(const Mesh& o) {
   // Side names carry the body name: a second body of the same name would
   // silently merge its sides into the first one's.

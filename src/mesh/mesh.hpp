@@ -35,6 +35,8 @@ struct Mesh {
 
   // Nodes on a named side, sorted and unique. Throws InputError if unknown.
   std::vector<Index> side_nodes(const std::string& side) const;
+  // The largest side of the nodes' bounding box (mm): the bodies' size.
+  double size() const;
   // Appends another mesh (a second body); node and element ids are shifted.
   void append(const Mesh& other);
 };

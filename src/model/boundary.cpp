@@ -18,12 +18,7 @@ Vec2 symmetry_load_factor(const std::vector<SymmetryPlane>& planes, const std::v
 
 KernelConstraints::KernelConstraints(const Scene& scene) : symmetry_(scene.symmetry) {
   const Mesh& m = scene.mesh;
-  Vec2 lo = m.x.front(), hi = m.x.front();
-  for (const auto& p : m.x) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  size = (hi - lo).maxCoeff();
+  size = m.size();
   tol_ = 1e-9 * size;
   for (const auto& g : scene.velocities) {
     Group grp{g.name, m.side_nodes(g.side), 0.0};

@@ -45,6 +45,9 @@ class TermSink {
  public:
   virtual ~TermSink() = default;
   virtual void add(const Index* nodes, int k, double energy, const double* grad, const double* hess) = 0;
+  // False when the sink uses energy or gradient only: a term may then skip
+  // its Hessian (hess is not read).
+  virtual bool needs_hessian() const { return true; }
 };
 
 struct TangentKind {

@@ -49,7 +49,10 @@ struct ContactPair {
   std::string with_body;
   std::vector<std::string> with_sides;
   FrictionLaw friction;
-  bool with_die() const { return !die.empty(); }
+  // Indices resolved by the reader: into Scene::bodies (= mesh body ids)
+  // and Scene::dies; die_id < 0 for a pair of bodies.
+  int body_id = -1, with_body_id = -1, die_id = -1;
+  bool with_die() const { return die_id >= 0; }
 };
 
 struct BodySpec {

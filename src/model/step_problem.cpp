@@ -14,6 +14,7 @@ namespace {
 struct EnergySink : TermSink {
   double total = 0;
   void add(const Index*, int, double e, const double*, const double*) override { total += e; }
+  bool needs_hessian() const override { return false; }
 };
 struct ForceSink : TermSink {
   std::vector<Vec2>& F;
@@ -21,6 +22,7 @@ struct ForceSink : TermSink {
   void add(const Index* nodes, int k, double, const double* g, const double*) override {
     for (int a = 0; a < k; ++a) F[nodes[a]] += Vec2(g[2 * a], g[2 * a + 1]);
   }
+  bool needs_hessian() const override { return false; }
 };
 struct MatrixSink : TermSink {
   SparseAssembler& A;

@@ -132,8 +132,8 @@ TEST(HallquistRule, PenetrationsCountedOnCraftedSurfaces) {
   for (Index i = 5; i < 9; ++i) upper.edges.push_back({i, i + 1, 1});
   for (Index i = 5; i <= 9; ++i) upper.nodes.push_back(i);
   const SegmentGrid g_lower(x, lower, 0.5), g_upper(x, upper, 0.5);
-  const Penetrations up_into_low = count_penetrations(x, upper, lower, g_lower, 0.5, 1e-3);
-  const Penetrations low_into_up = count_penetrations(x, lower, upper, g_upper, 0.5, 1e-3);
+  const Penetrations up_into_low = count_penetrations(find_segments(x, upper, lower, g_lower, 0.5), 1e-3);
+  const Penetrations low_into_up = count_penetrations(find_segments(x, lower, upper, g_upper, 0.5), 1e-3);
   EXPECT_EQ(up_into_low.count, 2);
   EXPECT_NEAR(up_into_low.deepest, 0.05, 1e-12);
   // The roles switch to make the upper body the slave if it was the master.
