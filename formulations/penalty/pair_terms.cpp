@@ -19,10 +19,13 @@ PairResult pair_terms(const PairKinematics& p, const PairLaw& law, const std::ar
 
   // Normal penalty (paper eq. 7-8).
   const double r = out.gamma_n + p.gap_from * law.inv_dt;
-  out.energy = 0.5 * law.beta * r * r;
-  out.normal_force = -law.beta * r;
-  for (int i = 0; i < nd; ++i) out.grad[i] = law.beta * r * dn[i];
-  if (want_hess)
+  const bool pressing = !law.one_sided || r < 0;  // one-sided: min(r, 0)
+  if (pressing) {
+    out.energy = 0.5 * law.beta * r * r;
+    out.normal_force = -law.beta * r;
+    for (int i = 0; i < nd; ++i) out.grad[i] = law.beta * r * dn[i];
+  }
+  if (want_hess && pressing)
     for (int j = 0; j < nd; ++j)
       for (int i = 0; i < nd; ++i) out.hess[j * nd + i] = law.beta * dn[i] * dn[j];
 

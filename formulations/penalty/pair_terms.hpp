@@ -12,6 +12,11 @@
 //                            gap where the velocity moves the nodes from;
 //                            without the correction r = gamma_N, exactly eq. 7)
 //   E_N = (beta / 2) r^2,   N = -beta r  (normal contact force, > 0 pressing)
+//   one-sided (with the gap correction, the default): r is the predicted gap
+//   at the end of the step over dt, and only its negative part is penalized,
+//   E_N = (beta / 2) min(r, 0)^2: a node that would end the step inside its
+//   master is pushed back onto it, a node that would separate carries no
+//   force (C1, convex; the contact state is no longer a separate unknown).
 // Friction (paper eq. 11, Chen-Kobayashi arctan law), potential B psi(gamma_T)
 // (contact/friction_law.hpp) with the bound
 //   factor:  B = m k w
@@ -42,6 +47,7 @@ struct PairKinematics {
 struct PairLaw {
   double beta = 0;            // N s/mm
   double inv_dt = 0;          // 1/dt with the gap correction, else 0
+  bool one_sided = false;     // penalize only r < 0
   FrictionLaw::Kind kind = FrictionLaw::Kind::None;
   double m = 0, mu = 0;
   double k_weight = 0;        // N: shear-yield bound k w

@@ -208,6 +208,7 @@ void PenaltyContact::set_laws(const StepView& v) {
     p.h = d.edges ? d.len / d.edges : f.h;
     p.law.beta = f.beta_hat * d.w;
     p.law.inv_dt = gap_correction_ && v.dt > 0 ? 1.0 / v.dt : 0.0;
+    p.law.one_sided = one_sided();
     p.law.kind = f.friction.kind;
     p.law.m = f.friction.m;
     p.law.mu = f.friction.mu;
@@ -227,6 +228,9 @@ PairResult PenaltyContact::evaluate(const Pair& p, const std::vector<Vec2>& vel,
   for (int a = 0; a < p.kin.k; ++a) v[a] = vel[p.kin.nodes[a]];
   PairLaw law = p.law;
   law.a *= a_factor_;
+  // The friction factor acts on nodes in contact (Coulomb's bound follows
+  // the normal force by itself).
+  if (law.kind == FrictionLaw::Kind::Factor && !active(p)) law.kind = FrictionLaw::Kind::None;
   return pair_terms(p.kin, law, v, hess);
 }
 
@@ -244,18 +248,19 @@ double PenaltyContact::gap_rate(const Pair& p, const std::vector<Vec2>& vel) con
 
 void PenaltyContact::couplings(const StepView&, std::vector<std::vector<Index>>& out) const {
   for (const Pair& p : pairs_)
-    if (active(p) && p.kin.k > 1) out.push_back({p.kin.nodes.begin(), p.kin.nodes.begin() + p.kin.k});
+    if (engaged(p) && p.kin.k > 1) out.push_back({p.kin.nodes.begin(), p.kin.nodes.begin() + p.kin.k});
 }
 
 void PenaltyContact::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
   for (const Pair& p : pairs_) {
-    if (!active(p)) continue;
+    if (!engaged(p)) continue;
     const PairResult r = evaluate(p, vel, sink.needs_hessian());
     sink.add(p.kin.nodes.data(), p.kin.k, r.energy, r.grad.data(), r.hess.data());
   }
 }
 
 StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>&) {
+  if (one_sided()) return check_one_sided(v, vel);
   StepCheck out;
   out.events.swap(events_);
   double scale = 0;
@@ -274,7 +279,7 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
       // A node released in this step stays free for it (no flip-flop).
       // Only with the gap correction: without it an active pair keeps its
       // gap, and a node made active short of its master would stay there.
-      if (!gap_correction_ || p.released || !(v.dt > 0)) continue;
+      if (!gap_correction_ || p.changed || !(v.dt > 0)) continue;
       const double end_gap = p.kin.gap_from + v.dt * gap_rate(p, vel);
       if (end_gap < -touch_tol_) {
         set_active(p, true);
@@ -288,7 +293,7 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
     // pulls the bodies together.
     if (p.res.normal_force < -release_tol_ * scale) {
       set_active(p, false);
-      p.released = true;
+      p.changed = true;
       p.res = PairResult{};
       released = true;
       out.events.push_back("release node " + std::to_string(p.kin.nodes[0]) + " from " + ifaces_[p.iface].name);
@@ -301,14 +306,53 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
     out.resolve = true;
   }
   // Continuation in the friction smoothing at the run's first solve.
+  continue_smoothing(out);
+  return out;
+}
+
+StepCheck PenaltyContact::check_one_sided(const StepView& v, const std::vector<Vec2>& vel) {
+  // Every candidate pair carries the one-sided penalty: the contact state
+  // only reports the pairs that press (N > 0) and switches the friction
+  // factor on and off. A state change matters only to that friction, so
+  // only then is the step solved again; a node changes state at most once
+  // per solve of the step (no flip-flop).
+  StepCheck out;
+  out.events.swap(events_);
+  active_pairs_ = 0;
+  bool changed = false;
+  for (Pair& p : pairs_) {
+    p.res = evaluate(p, vel, false);
+    const bool pressing = p.res.normal_force > 0;
+    if (pressing != static_cast<bool>(active(p)) && !p.changed) {
+      set_active(p, pressing);
+      p.changed = true;
+      changed = changed || p.law.kind == FrictionLaw::Kind::Factor;
+      out.events.push_back((pressing ? "touch node " : "release node ") + std::to_string(p.kin.nodes[0]) +
+                           (pressing ? " on " : " from ") + ifaces_[p.iface].name);
+      if (changed) p.res = evaluate(p, vel, false);
+    }
+    active_pairs_ += active(p) ? 1 : 0;
+  }
+  if (changed) {
+    set_laws(v);
+    out.resolve = true;
+  }
+  continue_smoothing(out);
+  return out;
+}
+
+void PenaltyContact::continue_smoothing(StepCheck& out) {
+  // Continuation in the friction smoothing at the run's first solve.
   if (a_factor_ > 1) {
     a_factor_ = std::max(1.0, a_factor_ / 10);
     out.resolve = true;
   }
-  return out;
 }
 
 std::optional<double> PenaltyContact::limit_dt(const StepView& v, const std::vector<Vec2>& vel) const {
+  // One-sided: a node that would land within the step is pushed onto its
+  // master at the end of the step by its own term; no landing cut needed.
+  if (one_sided()) return std::nullopt;
   std::optional<double> limit;
   for (const Pair& p : pairs_) {
     if (active(p) || p.kin.gap0 <= 0) continue;
@@ -331,7 +375,7 @@ void PenaltyContact::contact_forces(const StepView&, const std::vector<Vec2>& ve
                                     std::vector<Vec2>& out) const {
   out.assign(vel.size(), Vec2::Zero());
   for (const Pair& p : pairs_) {
-    if (!active(p)) continue;
+    if (!engaged(p)) continue;
     const auto f = pair_forces(p);
     for (int a = 0; a < p.kin.k; ++a) out[p.kin.nodes[a]] += f[a];
   }
@@ -350,7 +394,7 @@ std::vector<Vec2> PenaltyContact::loads(const StepView& v, const std::vector<Vec
     Vec2 sum = Vec2::Zero();
     std::vector<Index> nodes;
     for (const Pair& p : pairs_)
-      if (active(p) && ifaces_[p.iface].die == d) {
+      if (engaged(p) && ifaces_[p.iface].die == d && p.res.normal_force != 0) {
         sum += pair_forces(p)[0];
         nodes.push_back(p.kin.nodes[0]);
       }
@@ -369,7 +413,7 @@ void PenaltyContact::node_fields(const StepView& v, std::map<std::string, std::v
   for (const Pair& p : pairs_) {
     const Index s = p.kin.nodes[0];
     gap[s] = p.kin.gap0;
-    if (!active(p) || !(p.weight > 0)) continue;
+    if (!engaged(p) || !(p.weight > 0)) continue;
     pr[s] += p.res.normal_force / p.weight;
     sh[s] += p.res.friction / p.weight;
     slip[s] = p.res.gamma_t;
@@ -391,7 +435,7 @@ std::vector<double> PenaltyContact::report() const {
   // Per body-body interface, the resultant on each side (action-reaction).
   std::vector<std::array<Vec2, 2>> side_force(ifaces_.size(), {Vec2::Zero(), Vec2::Zero()});
   for (const Pair& p : pairs_) {
-    if (!active(p)) continue;
+    if (!engaged(p)) continue;
     const auto f = pair_forces(p);
     for (int a = 0; a < p.kin.k; ++a) {
       const int b = scene_.mesh.node_body[p.kin.nodes[a]];

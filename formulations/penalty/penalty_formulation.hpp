@@ -74,7 +74,7 @@ class PenaltyContact final : public ContactFormulation {
     double weight = 0;    // mm^2, slave node's contact area share
     double h = 0;         // mm, local element size
     int master_element = -1;  // the master segment's element (body master)
-    bool released = false;  // released in this step's passes
+    bool changed = false;   // contact state changed in this solve's passes
     PairResult res;       // at the last converged solve
   };
   const std::vector<Pair>& pairs() const { return pairs_; }
@@ -87,6 +87,12 @@ class PenaltyContact final : public ContactFormulation {
   // The contact state lives in the interface (it persists across steps).
   bool active(const Pair& p) const { return ifaces_[p.iface].active[p.side][p.local]; }
   void set_active(const Pair& p, bool on) { ifaces_[p.iface].active[p.side][p.local] = on; }
+  // One-sided penalty on the predicted end-of-step gap (the default, with
+  // the gap correction): every candidate pair carries its term.
+  bool one_sided() const { return gap_correction_; }
+  bool engaged(const Pair& p) const { return one_sided() || active(p); }
+  StepCheck check_one_sided(const StepView& v, const std::vector<Vec2>& vel);
+  void continue_smoothing(StepCheck& out);
   // Relative normal velocity gamma_N of the pair at nodal velocities vel.
   double gap_rate(const Pair& p, const std::vector<Vec2>& vel) const;
   void set_laws(const StepView& v);

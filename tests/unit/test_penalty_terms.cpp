@@ -111,6 +111,35 @@ TEST(PenaltyPair, GapCorrectionAimsAtZeroGapAtTheEndOfTheStep) {
   EXPECT_NEAR(r.normal_force, 0.0, 1e-12);
 }
 
+TEST(PenaltyPair, OneSidedPenaltyActsOnlyOnPredictedPenetration) {
+  // A free node 0.01 mm above a die that stands still, dt = 0.1 s: it lands
+  // within the step if it closes faster than 0.1 mm/s.
+  PairKinematics k;
+  k.k = 1;
+  k.n = Vec2(0, 1);
+  k.gap0 = k.gap_from = 0.01;
+  PairLaw l = law(FrictionLaw::Kind::None);
+  l.one_sided = true;
+  const auto at = [&](double vy) { return pair_terms(k, l, {Vec2(0.3, vy), Vec2::Zero(), Vec2::Zero()}, true); };
+  // Would stop short: no force, no stiffness.
+  const PairResult free = at(-0.05);
+  EXPECT_EQ(free.normal_force, 0.0);
+  EXPECT_EQ(free.energy, 0.0);
+  for (double h : free.hess) EXPECT_EQ(h, 0.0);
+  // Would end 0.02 mm inside: pushed out, N = -beta r with r = -0.3 + 0.1.
+  const PairResult in = at(-0.3);
+  EXPECT_NEAR(in.normal_force, l.beta * 0.2, 1e-9);
+  // Derivatives exact on each side of the kink, continuous force across it.
+  check_derivatives(k, l, {Vec2(0.3, -0.3), Vec2::Zero(), Vec2::Zero()}, true);
+  check_derivatives(k, l, {Vec2(0.3, -0.05), Vec2::Zero(), Vec2::Zero()}, true);
+  EXPECT_NEAR(at(-0.1 - 1e-9).normal_force, 0.0, 1e-5);
+  // A body pair in the same state: the master's velocity counts.
+  PairKinematics b = body_pair();
+  b.gap0 = b.gap_from = 0.01;
+  check_derivatives(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}, true);
+  EXPECT_GT(pair_terms(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}, false).normal_force, 0.0);
+}
+
 TEST(HallquistRule, TheBodyThatPenetratesBecomesTheSlave) {
   Penetrations none, some{3, 0.01}, more{5, 0.02};
   EXPECT_EQ(hallquist_slave(0, none, none), 0);  // nothing penetrates: keep
