@@ -25,9 +25,13 @@ PairResult pair_terms(const PairKinematics& p, const PairLaw& law, const std::ar
     out.normal_force = -law.beta * r;
     for (int i = 0; i < nd; ++i) out.grad[i] = law.beta * r * dn[i];
   }
-  if (want_hess && pressing)
+  // A lifted pair in contact keeps a small part of its stiffness (see
+  // PairLaw::keep_stiffness): the Newton matrix, not the Hessian.
+  constexpr double kLifted = 1e-4;
+  const double k = pressing || r == 0 ? law.beta : law.keep_stiffness ? kLifted * law.beta : 0.0;
+  if (want_hess && k > 0)
     for (int j = 0; j < nd; ++j)
-      for (int i = 0; i < nd; ++i) out.hess[j * nd + i] = law.beta * dn[i] * dn[j];
+      for (int i = 0; i < nd; ++i) out.hess[j * nd + i] = k * dn[i] * dn[j];
 
   // Friction (paper eq. 11-12).
   double dB = 0;  // dB / d gamma_N

@@ -11,6 +11,10 @@ namespace rpfem {
 
 namespace {
 
+// A node that landed within a step ends it this close to its master (the
+// linearized geometry of the step), relative to the element size.
+constexpr double kLandingTolerance = 1e-3;
+
 // The largest prescribed speed of the scene (dies and velocity groups), mm/s.
 double largest_speed(const Scene& s) {
   double v = 0;
@@ -163,6 +167,13 @@ void PenaltyContact::collect_pairs(const StepView& v, int iface, int side,
       }
       p.kin.gap_from -= back.dot(p.kin.n);
     }
+    // An instantaneous solve anticipates no landing: only nodes touching
+    // now (to within what a landing leaves, kLandingTolerance of the
+    // element size) take part, and only a penetration is corrected over dt.
+    if (!v.moves) {
+      p.free = p.kin.gap0 > kLandingTolerance * f.h;
+      p.kin.gap_from = std::min(p.kin.gap_from, 0.0);
+    }
     if (!state && p.kin.gap0 <= touch_tol_) {
       state = 1;
       events_.push_back("touch node " + std::to_string(n) + " on " + f.name);
@@ -231,6 +242,9 @@ PairResult PenaltyContact::evaluate(const Pair& p, const std::vector<Vec2>& vel,
   // The friction factor acts on nodes in contact (Coulomb's bound follows
   // the normal force by itself).
   if (law.kind == FrictionLaw::Kind::Factor && !active(p)) law.kind = FrictionLaw::Kind::None;
+  // A pair in contact keeps its normal stiffness in the Newton matrix when
+  // an iterate lifts it off (a body held only by contacts would float).
+  law.keep_stiffness = active(p);
   return pair_terms(p.kin, law, v, hess);
 }
 
@@ -321,7 +335,7 @@ StepCheck PenaltyContact::check_one_sided(const StepView& v, const std::vector<V
   active_pairs_ = 0;
   bool changed = false;
   for (Pair& p : pairs_) {
-    p.res = evaluate(p, vel, false);
+    p.res = p.free ? PairResult{} : evaluate(p, vel, false);
     const bool pressing = p.res.normal_force > 0;
     if (pressing != static_cast<bool>(active(p)) && !p.changed) {
       set_active(p, pressing);

@@ -75,6 +75,7 @@ class PenaltyContact final : public ContactFormulation {
     double h = 0;         // mm, local element size
     int master_element = -1;  // the master segment's element (body master)
     bool changed = false;   // contact state changed in this solve's passes
+    bool free = false;      // an instantaneous solve (StepView::moves false) and the node clear of its master
     PairResult res;       // at the last converged solve
   };
   const std::vector<Pair>& pairs() const { return pairs_; }
@@ -90,7 +91,7 @@ class PenaltyContact final : public ContactFormulation {
   // One-sided penalty on the predicted end-of-step gap (the default, with
   // the gap correction): every candidate pair carries its term.
   bool one_sided() const { return gap_correction_; }
-  bool engaged(const Pair& p) const { return one_sided() || active(p); }
+  bool engaged(const Pair& p) const { return one_sided() ? !p.free : active(p); }
   StepCheck check_one_sided(const StepView& v, const std::vector<Vec2>& vel);
   void continue_smoothing(StepCheck& out);
   // Relative normal velocity gamma_N of the pair at nodal velocities vel.

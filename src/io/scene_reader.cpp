@@ -130,7 +130,9 @@ Scene read_scene(CaseFile& file) {
     CaseSection b = bodies.required_table(name);
     BodySpec spec;
     spec.name = name;
-    spec.law = read_material(b.required_table("material"), spec.material_name);
+    CaseSection mat = b.required_table("material");
+    spec.law = read_material(mat, spec.material_name);
+    spec.alpha_relative = mat.optional_real("alpha", Range::positive(), "relative, replaces solver.alpha for this body");
     Mesh m = read_mesh(b.required_table("mesh"), name);
     const MeshQuality q = mesh_quality(m);
     if (!(q.min_scaled_jacobian > 0))

@@ -31,6 +31,11 @@ struct StepView {
   // velocity moves the nodes from the start of the step.
   const std::vector<Vec2>* x_from = nullptr;
   double time_from = 0;  // s, the time of x_from
+  // Whether the solved velocity moves the nodes over dt. false: the solve
+  // gives the instantaneous field at x, recorded, and in the midpoint
+  // scheme only the predictor of the next half step (the end-of-step
+  // solve): a formulation then anticipates no contact within dt.
+  bool moves = true;
   const std::vector<double>* flow_stress = nullptr;  // per element, MPa (last solve)
   Geometry geometry = Geometry::Axisymmetric;
   double time = 0;  // s, at the start of the step

@@ -59,6 +59,7 @@ struct BodySpec {
   std::string name;
   FlowStressLaw law;
   std::string material_name;
+  std::optional<double> alpha_relative;  // replaces SolverSpec::alpha_relative for this body
 };
 
 struct SolverSpec {

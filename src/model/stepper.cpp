@@ -37,7 +37,10 @@ class Runner {
 
  private:
   // from: the state the solved velocity moves from (default st).
-  Solution solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from = nullptr);
+  // from: the state the velocity moves the nodes from (midpoint half step);
+  // moves: whether it moves them at all (StepView::moves).
+  Solution solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from = nullptr,
+                 bool moves = true);
   State advance(const State& st, const Solution& sol, double dt) const;
   StepView view(const State& st, int step, double dt) const;
   void record(const State& st, const Solution& sol, int step, double dt, int cuts);
@@ -68,10 +71,12 @@ StepView Runner::view(const State& st, int step, double dt) const {
   return v;
 }
 
-Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from) {
+Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from,
+                       bool moves) {
   Solution sol;
   StepView sv = view(st, step, dt);
   if (from) sv.x_from = &from->x, sv.time_from = from->time;
+  sv.moves = moves;
   const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
   contact_.begin_step(sv);
@@ -223,7 +228,8 @@ RunOutcome Runner::run() {
   derived_.limiting_strain_rate = scene_.solver.limit_rate_relative * derived_.reference_strain_rate;
   derived_.regularization = scene_.solver.regularization / derived_.reference_strain_rate;
   for (const auto& b : scene_.bodies)
-    derived_.alpha.push_back(scene_.solver.alpha_relative * b.law.yield(0.0) / derived_.reference_strain_rate);
+    derived_.alpha.push_back(b.alpha_relative.value_or(scene_.solver.alpha_relative) * b.law.yield(0.0) /
+                             derived_.reference_strain_rate);
   materials_.resize(mesh.num_elements());
   for (Index e = 0; e < mesh.num_elements(); ++e) {
     const int b = mesh.element_body[e];
@@ -238,7 +244,10 @@ RunOutcome Runner::run() {
   derived_.contact = contact_.derived();
   obs_.on_start(derived_, load_names, contact_.report_names());
 
-  Solution sol = solve(st, std::vector<Vec2>(mesh.x.size(), Vec2::Zero()), 0, derived_.dt_nominal);
+  // In the midpoint scheme the half-step solve moves the nodes; the solves
+  // at the start and end of a step only predict and record.
+  const bool midpoint = scene_.stepping.integration == TimeIntegration::Midpoint;
+  Solution sol = solve(st, std::vector<Vec2>(mesh.x.size(), Vec2::Zero()), 0, derived_.dt_nominal, nullptr, !midpoint);
   if (!sol.failure.empty()) {
     out_.reason = "step 0 (initial configuration): " + sol.failure;
     return finish();
@@ -260,7 +269,7 @@ RunOutcome Runner::run() {
       std::string why;
       const Solution* mover = &sol;
       Solution mid;
-      if (scene_.stepping.integration == TimeIntegration::Midpoint) {
+      if (midpoint) {
         // Velocity at the half step moves the nodes: second order in dt.
         State half = advance(st, sol, 0.5 * dt);
         mid = solve(half, sol.v, step, dt, &st);
@@ -283,7 +292,7 @@ RunOutcome Runner::run() {
         if (!(q > -kReflexTolerance)) why = "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
       }
       if (why.empty()) {
-        next_sol = solve(next, mover->v, step, dt);
+        next_sol = solve(next, mover->v, step, dt, nullptr, !midpoint);
         why = next_sol.failure;
       }
       if (why.empty()) {

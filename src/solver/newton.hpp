@@ -41,6 +41,7 @@ struct NewtonResult {
   int halvings = 0;            // line-search step cuts in total
   double residual = 0;         // |R| / F_scale at exit
   double correction = 0;       // |du| / |u| of the last iteration
+  bool at_round_off = false;   // converged on the round-off floor (see newton.cpp)
   std::string reason;          // why it stopped when not converged
 };
 

@@ -103,3 +103,23 @@ reference = "x"
   CaseFile f(p);
   EXPECT_THROW(read_scene(f), InputError);
 }
+
+TEST(SceneReader, VirtualRigidBodyOfTestII) {
+  CaseFile f(std::string(RPFEM_SOURCE_DIR) + "/cases/paper_test2_virtual_rigid.toml");
+  const Scene s = read_scene(f);
+  EXPECT_NO_THROW(f.finish());
+  ASSERT_EQ(s.bodies.size(), 2u);
+  for (const BodySpec& b : s.bodies) {
+    if (b.name == "punch") {
+      EXPECT_NEAR(b.law.K, 1e5 * 9.80665, 1e-6);  // the paper's K = 1e5 kgf/mm^2
+      EXPECT_NEAR(b.law.n, 1e-4, 1e-15);
+      ASSERT_TRUE(b.alpha_relative.has_value());   // its own volumetric penalty
+      EXPECT_EQ(*b.alpha_relative, 1e2);
+    } else {
+      EXPECT_FALSE(b.alpha_relative.has_value());  // solver.alpha
+    }
+  }
+  ASSERT_EQ(s.contact_pairs.size(), 2u);
+  EXPECT_EQ(s.contact_pairs[0].friction.kind, FrictionLaw::Kind::Coulomb);
+  EXPECT_NEAR(s.contact_pairs[0].friction.mu, 0.1, 1e-15);
+}

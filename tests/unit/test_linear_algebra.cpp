@@ -132,3 +132,35 @@ TEST(Newton, ReportsNonFiniteResidual) {
   EXPECT_FALSE(r.converged);
   EXPECT_FALSE(r.reason.empty());
 }
+
+// A residual with a floor Newton cannot remove (the round-off of terms far
+// larger than the forces, as a virtual rigid body's): the solve stops on
+// the floor when it is near tol_force, and fails when it is far above.
+TEST(Newton, StopsOnTheRoundOffFloorOnlyNearTheTolerance) {
+  const auto run = [](double floor) {
+    NewtonSystem sys;
+    // R = (u - 1) + floor, scale 1; the solve ignores the floor, as a
+    // factorization does with round-off it cannot see.
+    sys.residual = [floor](const Vec& u, Vec& R, double& s) {
+      R = (u.array() - 1.0).matrix() + Vec::Constant(u.size(), floor);
+      s = 1;
+    };
+    sys.solve = [](const Vec& u, bool, const Vec&, Vec& du) {
+      du = (1.0 - u.array()).matrix();
+      return true;
+    };
+    Vec u = Vec::Zero(2);
+    NewtonSettings s;
+    s.max_iterations = 10;
+    return newton_solve(sys, s, u);
+  };
+  const NewtonResult near = run(2e-6);  // 20 x tol_force (1e-7)
+  EXPECT_TRUE(near.converged) << near.reason;
+  EXPECT_TRUE(near.at_round_off);
+  EXPECT_GT(near.residual, 1e-7);
+  const NewtonResult far = run(1e-4);
+  EXPECT_FALSE(far.converged);
+  const NewtonResult none = run(0);
+  EXPECT_TRUE(none.converged);
+  EXPECT_FALSE(none.at_round_off);
+}

@@ -1,0 +1,30 @@
+// Load-stroke curve comparison (verification/curve_comparison.*): exact
+// for equal curves, the relative gap for scaled ones, and a staircase
+// shifted by less than the stroke tolerance compared by its shape.
+#include <gtest/gtest.h>
+
+#include "curve_comparison.hpp"
+
+using namespace rpfem;
+
+TEST(CurveComparison, EqualAndScaledCurves) {
+  const std::vector<double> s{0, 1, 2, 3}, F{0, 10, 30, 40};
+  EXPECT_EQ(curve_difference(s, F, s, F, 0, 0).worst, 0.0);
+  const std::vector<double> G{0, 10.3, 30.9, 41.2};
+  const CurveDifference d = curve_difference(s, G, s, F, 0.5, 0);
+  EXPECT_NEAR(d.worst, 0.03, 1e-12);
+  EXPECT_EQ(d.points, 3);
+  // Points of A between B's vertices are compared with B interpolated.
+  EXPECT_NEAR(curve_difference({1.5}, {20}, s, F, 0, 0).worst, 0.0, 1e-15);
+}
+
+TEST(CurveComparison, StrokeToleranceAbsorbsAShiftedStaircase) {
+  // B jumps from 10 to 20 at s = 1.0; A at s = 0.98 already carries 20.
+  const std::vector<double> sb{0, 0.999, 1.0, 2}, Fb{0, 10, 20, 30};
+  const std::vector<double> sa{0.98}, Fa{20};
+  EXPECT_GT(curve_difference(sa, Fa, sb, Fb, 0, 0).worst, 0.9);
+  EXPECT_EQ(curve_difference(sa, Fa, sb, Fb, 0, 0.05).worst, 0.0);
+  // Beyond the band: 25 at s = 0.98 is 5 above B's largest load in
+  // [0.93, 1.03] (20.3), relative to B(0.98) = 9.81.
+  EXPECT_NEAR(curve_difference(sa, {25}, sb, Fb, 0, 0.05).worst, (25 - 20.3) / (10 * 0.98 / 0.999), 1e-9);
+}
