@@ -42,9 +42,10 @@ PairResult pair_terms(const PairKinematics& p, const PairLaw& law, const std::ar
     out.bound = std::min(coulomb, law.k_weight);
     if (out.normal_force > 0 && coulomb < law.k_weight) dB = -law.mu * law.beta;
   }
-  if (out.bound <= 0 && dB == 0) return out;
+  const double energy_bound = law.merit_bound >= 0 ? law.merit_bound : out.bound;
+  if (out.bound <= 0 && dB == 0 && energy_bound <= 0) return out;
   const ArctanPotential f = arctan_potential(out.gamma_t, law.a);
-  out.energy += out.bound * f.psi;
+  out.energy += energy_bound * f.psi;
   out.friction = -out.bound * f.dpsi;
   for (int i = 0; i < nd; ++i) out.grad[i] += out.bound * f.dpsi * dt[i];
   if (want_hess)

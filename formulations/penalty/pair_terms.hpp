@@ -25,7 +25,9 @@
 // Gradient and Hessian are exact; with Coulomb friction B depends on the
 // velocities through N, which adds the unsymmetric block
 //   psi'(gamma_T) (c (x) t) (dB/dV)^T,  dB/dV = -mu beta (c (x) n)
-// (the consistent tangent), and the term is not a potential.
+// (the consistent tangent), and the term is not a potential; with the bound
+// frozen at an iterate (PairLaw::merit_bound) its energy is the merit whose
+// gradient there is the term's gradient.
 #pragma once
 #include <array>
 
@@ -60,6 +62,10 @@ struct PairLaw {
   double m = 0, mu = 0;
   double k_weight = 0;        // N: shear-yield bound k w
   double a = 1;               // smoothing speed, mm/s
+  // >= 0: the bound in the energy only (the line search's merit anchored at
+  // an iterate, ContactFormulation::anchor_merit); gradient and Hessian use
+  // the live bound.
+  double merit_bound = -1;
 };
 
 struct PairResult {

@@ -38,7 +38,7 @@ PenaltyContact::PenaltyContact(const Scene& scene, CaseSection settings) : scene
   gap_correction_ = settings.flag("gap_correction", true);
   touch_tol_ = settings.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
   release_tol_ = settings.real("release_tolerance", 1e-9, Range::nonnegative(), "relative to the largest contact force");
-  switch_tol_ = settings.real("switch_tolerance", 1e-3, Range::positive(), "relative to the element size");
+  switch_tol_ = settings.real("switch_tolerance", 3e-2, Range::positive(), "relative to the element size");
   capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
   sym_tol_ = 1e-9 * size;
 
@@ -61,9 +61,9 @@ PenaltyContact::PenaltyContact(const Scene& scene, CaseSection settings) : scene
       f.h = std::min(h0, h1);
       any_bodies_ = true;
     }
-    // Default: 1e3 times an element's stiffness at the reference strain
+    // Default: 1e4 times an element's stiffness at the reference strain
     // rate (see the header); beta_factor scales it, beta replaces it.
-    f.beta_hat = beta ? *beta : beta_factor * 1e3 * f.sigma_ref * size / (speed_scale_ * f.h);
+    f.beta_hat = beta ? *beta : beta_factor * 1e4 * f.sigma_ref * size / (speed_scale_ * f.h);
     for (int s = 0; s < 2; ++s) f.active[s].assign(f.side[s].nodes.size(), 0);
     coulomb_ = coulomb_ || f.friction.kind == FrictionLaw::Kind::Coulomb;
     if (f.friction.kind != FrictionLaw::Kind::None) a_factor_ = std::max(a_factor_, 0.1 / f.friction.a_relative);
@@ -239,6 +239,7 @@ PairResult PenaltyContact::evaluate(const Pair& p, const std::vector<Vec2>& vel,
   for (int a = 0; a < p.kin.k; ++a) v[a] = vel[p.kin.nodes[a]];
   PairLaw law = p.law;
   law.a *= a_factor_;
+  law.merit_bound = p.merit_bound;
   // The friction factor acts on nodes in contact (Coulomb's bound follows
   // the normal force by itself).
   if (law.kind == FrictionLaw::Kind::Factor && !active(p)) law.kind = FrictionLaw::Kind::None;
@@ -246,6 +247,13 @@ PairResult PenaltyContact::evaluate(const Pair& p, const std::vector<Vec2>& vel,
   // an iterate lifts it off (a body held only by contacts would float).
   law.keep_stiffness = active(p);
   return pair_terms(p.kin, law, v, hess);
+}
+
+void PenaltyContact::anchor_merit(const StepView&, const std::vector<Vec2>& vel) {
+  for (Pair& p : pairs_) {
+    p.merit_bound = -1;
+    if (engaged(p)) p.merit_bound = evaluate(p, vel, false).bound;
+  }
 }
 
 std::array<Vec2, 3> PenaltyContact::pair_forces(const Pair& p) const {

@@ -5,8 +5,11 @@
 // phi' = sigma_bar (material/flow_stress.hpp). epsdot_bar^2 = eps^T P eps is
 // the effective rate of the deviatoric strain rate,
 // (2/3) e'_ij e'_ij, integrated with 2x2 Gauss points; the volumetric penalty
-// term with the 1-point rule (selective reduced integration, Kobayashi, Oh,
-// Altan 1989, sec. 7.3), so the element does not lock.
+// on the element's mean dilatation, (alpha/2) V (mean epsdot_v)^2 (Nagtegaal,
+// Parks and Rice 1974; Hughes 1980), so the element does not lock. It is the
+// 1-point rule of selective reduced integration (Kobayashi, Oh, Altan 1989,
+// sec. 7.3) for a parallelogram in plane strain; in axisymmetry the mean
+// differs from the centre value.
 #pragma once
 #include <array>
 
@@ -58,7 +61,7 @@ void rigid_plastic_terms(const RigidPlasticInput& in, Tangent t, ElementTerms& o
 struct ElementPost {
   std::array<double, 4> strain_rate{};  // effective strain rate at the 2x2 points
   double strain_rate_mean = 0;          // volume-weighted mean
-  double volumetric_rate = 0;           // epsdot_v at the centre
+  double volumetric_rate = 0;           // the element's mean epsdot_v
   double mean_stress = 0;               // sigma_m = alpha epsdot_v, MPa
   double volume = 0;                    // mm^3 (2 pi r included in axisymmetry)
   double min_detJ = 0;                  // at the 2x2 points and the centre

@@ -57,7 +57,10 @@ class TermSink {
 
 struct TangentKind {
   bool symmetric = true;  // false: UMFPACK (frictional tangents)
-  bool potential = true;  // false: the line search uses the residual norm
+  bool potential = true;  // false: the terms' gradient is not the energy's
+  // Not a potential, but the formulation can anchor a merit at an iterate
+  // (anchor_merit): the line search then uses it instead of the residual norm.
+  bool merit = false;
 };
 
 // Outcome of a formulation that solved the step itself.
@@ -93,6 +96,12 @@ class ContactFormulation {
   // Contact terms of the functional at nodal velocities v.
   virtual void add_terms(const StepView&, const std::vector<Vec2>& v, TermSink&) const {}
   virtual TangentKind tangent() const { return {}; }
+  // Non-potential terms (tangent().merit): freeze what makes them so at the
+  // velocities v (Coulomb's friction bound, a function of the normal force)
+  // until the next call. add_terms' energy is then a potential whose
+  // gradient at v is the terms' gradient, the Newton line search's merit;
+  // gradient and Hessian stay the live, consistent ones.
+  virtual void anchor_merit(const StepView&, const std::vector<Vec2>& v) {}
   // A formulation that solves the step itself returns its outcome; u holds
   // the reduced unknowns on entry (initial guess) and on exit.
   virtual std::optional<SolveOutcome> solve(const StepView&, StepProblem&, Vec& u) { return std::nullopt; }

@@ -144,7 +144,14 @@ void StepProblem::viscous_predictor(double rate, Vec& u) {
 
 NewtonSystem StepProblem::newton_system() {
   NewtonSystem s;
-  if (contact_.tangent().potential) s.energy = [this](const Vec& u) { return energy(u); };
+  const TangentKind kind = contact_.tangent();
+  if (kind.potential || kind.merit) s.energy = [this](const Vec& u) { return energy(u); };
+  if (!kind.potential && kind.merit)
+    s.anchor = [this](const Vec& u) {
+      std::vector<Vec2> v;
+      ws_.dofs.expand(u, v);
+      contact_.anchor_merit(view_, v);
+    };
   s.residual = [this](const Vec& u, Vec& R, double& scale) { residual(u, R, scale); };
   s.solve = [this](const Vec& u, bool c, const Vec& R, Vec& du) { return solve(u, c, R, du); };
   return s;

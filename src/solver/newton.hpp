@@ -5,7 +5,10 @@
 // Iteration k solves K du = -R. The first `direct_iterations` use the secant
 // matrix (direct iteration, Kobayashi, Oh, Altan 1989, sec. 6.6) so Newton
 // starts from a usable field. The step length s halves until
-//   Pi(u + s du) <= Pi(u) + c s R.du   (Armijo, when a potential exists), or
+//   Pi(u + s du) <= Pi(u) + c s R.du   (Armijo, when a potential or an
+//                                       anchored merit exists and R.du < 0;
+//                                       within round-off of Pi(u), a drop of
+//                                       |R| is accepted instead), or
 //   |R(u + s du)| <= (1 - c s) |R(u)|   (otherwise).
 // Converged when |du| <= tol_velocity |u| and |R| <= tol_force F_scale.
 #pragma once
@@ -28,6 +31,10 @@ struct NewtonSettings {
 struct NewtonSystem {
   // Pi(u); empty when the problem has no potential (residual line search).
   std::function<double(const Vec& u)> energy;
+  // Set when energy is a merit anchored at an iterate (a potential whose
+  // gradient there is R, e.g. Coulomb friction with its bound frozen):
+  // called at u before each line search, which then uses energy.
+  std::function<void(const Vec& u)> anchor;
   // Residual R(u) and the force scale used for the relative residual.
   std::function<void(const Vec& u, Vec& R, double& force_scale)> residual;
   // Assembles the tangent at u (secant if !consistent), factorizes it and

@@ -1,7 +1,8 @@
 // The penalty formulation (paper eq. 3-12) on shipped scenes: against the
 // exact load and the direct formulation on flat-die upsetting; the paper's
 // Test I (symmetry, single against double action, penetration at the
-// default beta, action equals reaction between two bodies).
+// default beta, action equals reaction between two bodies); Test II; the
+// contact patch test (two-pass exact, one-pass measured).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include "analytic.hpp"
 #include "curve_comparison.hpp"
 #include "field_comparison.hpp"
+#include "homogeneous_flow.hpp"
 #include "core/types.hpp"
 #include "results.hpp"
 #include "run_case.hpp"
@@ -107,8 +109,11 @@ TEST(PaperTest2, VirtualRigidBodyFollowsTheRigidDie) {
     Fv.push_back(-hv.at("ram.Fy")[i]);
     pen = std::max({pen, hv.at("max_penetration_rel")[i], hv.at("master_penetration_rel")[i]});
     imbalance = std::max(imbalance, hv.at("force_imbalance")[i]);
-    // The ram carries what the billet's contacts carry (quasi-static).
-    EXPECT_NEAR(Fv.back(), hv.at("bottom_die.Fy")[i], 1e-6 * Fv.back() + 1e-6);
+    // The ram carries what the billet's contacts carry (quasi-static), to
+    // the Newton residual: 1e-6 of the load, and 1 mN absolute, above the
+    // round-off floor of the residual (alpha eps |v| summed over the dofs,
+    // 3e-4 N measured at the first solve, where the load is 180 N).
+    EXPECT_NEAR(Fv.back(), hv.at("bottom_die.Fy")[i], 1e-6 * Fv.back() + 1e-3);
   }
   for (double f : hd.at("punch.Fy")) Fd.push_back(-f);
   // Both curves are staircases (a ring of nodes lands every 0.09 mm of
@@ -126,4 +131,47 @@ TEST(PaperTest2, VirtualRigidBodyFollowsTheRigidDie) {
               "mm), %.2e point by point from 1 mm (worst at %.3f mm); penetration / element size %.2e; "
               "action-reaction %.2e\n",
               band.worst, band.at_stroke, late.worst, late.at_stroke, pen, imbalance);
+}
+
+// The contact patch test (cases/patch_two_blocks.toml): two stacked blocks
+// with non-matching meshes at the interface under frictionless platens flow
+// homogeneously. Two-pass recovers it to the penalty's compliance, O(1 /
+// beta): largest at the first, instantaneous solve, where nothing has yet
+// built the gap that carries the pressure. One pass lets the master's nodes
+// sink into the slave and is measured: it fails the patch test by design.
+TEST(PatchTest, TwoPassRecoversTheHomogeneousFlowOnePassIsMeasured) {
+  const std::string d2 = run_case("patch_two_blocks", "--variant two_pass", 0, "_two");
+  const std::string d1 = run_case("patch_two_blocks", "", 0, "_one");
+  const std::vector<int> steps = read_h5_steps(d2 + "/result.h5");
+  ASSERT_EQ(steps.size(), 11u);
+  double two = 0, two_late = 0, two_vel = 0, one = 0, one_l2 = 0;
+  for (int k : steps) {
+    const HomogeneousFlowError e2 = homogeneous_flow_error(d2 + "/result.h5", k, 1.0, Geometry::Axisymmetric);
+    const HomogeneousFlowError e1 = homogeneous_flow_error(d1 + "/result.h5", k, 1.0, Geometry::Axisymmetric);
+    EXPECT_EQ(e2.elements, 78);
+    EXPECT_NEAR(e2.height, 10.0 - 0.1 * k, 1e-6);
+    two = std::max(two, e2.strain_rate), two_vel = std::max(two_vel, e2.velocity);
+    if (k > 0) two_late = std::max(two_late, e2.strain_rate);
+    one = std::max(one, e1.strain_rate), one_l2 = std::max(one_l2, e1.strain_rate_l2);
+  }
+  EXPECT_LT(two, 1e-3);
+  EXPECT_LT(two_late, 1e-4);
+  EXPECT_LT(two_vel, 1e-3);
+  const History h2 = read_history(d2 + "/history.csv"), h1 = read_history(d1 + "/history.csv");
+  double pen = 0, imbalance = 0;
+  for (std::size_t i = 0; i < h2.rows(); ++i) {
+    pen = std::max(pen, h2.at("max_penetration_rel")[i]);
+    imbalance = std::max(imbalance, h2.at("force_imbalance")[i]);
+  }
+  EXPECT_LT(pen, 1e-3);
+  EXPECT_LT(imbalance, 1e-8);
+  // One pass: its local error is the measured finding; the load it carries
+  // stays within 1 % of two-pass.
+  const double F2 = h2.at("top_platen.Fy").back(), F1 = h1.at("top_platen.Fy").back();
+  EXPECT_LT(std::abs(F1 / F2 - 1), 1e-2);
+  EXPECT_GT(one, 10 * two);
+  std::printf("[measured] patch test: two-pass strain rate uniform to %.2e (first solve), %.2e (after), velocity "
+              "%.2e, penetration / element size %.2e; one pass: strain rate off by %.2e (max), %.2e (L2), load "
+              "%.2e from two-pass, %g role switches\n",
+              two, two_late, two_vel, pen, one, one_l2, std::abs(F1 / F2 - 1), h1.at("role_switches").back());
 }

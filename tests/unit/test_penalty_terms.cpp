@@ -52,6 +52,14 @@ void check_derivatives(const PairKinematics& k, const PairLaw& l, const std::arr
   }
 }
 
+// A pressing pair sliding slowly, Coulomb below the sticking cap (B = mu N).
+const std::array<Vec2, 3> kSliding{Vec2(0.003, -0.5), Vec2(0.0, 0.2), Vec2(0.0, 0.1)};
+PairLaw coulomb_below_cap() {
+  PairLaw l = law(FrictionLaw::Kind::Coulomb);
+  l.k_weight = 1e4;
+  return l;
+}
+
 }  // namespace
 
 TEST(PenaltyPair, NormalTermMatchesFiniteDifferences) {
@@ -67,10 +75,9 @@ TEST(PenaltyPair, FrictionFactorIsAPotentialWithExactHessian) {
 }
 
 TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
-  const std::array<Vec2, 3> v{Vec2(0.003, -0.5), Vec2(0.0, 0.2), Vec2(0.0, 0.1)};
+  const std::array<Vec2, 3>& v = kSliding;
   const PairKinematics k = body_pair();
-  PairLaw l = law(FrictionLaw::Kind::Coulomb);
-  l.k_weight = 1e4;
+  const PairLaw l = coulomb_below_cap();
   const PairResult r = pair_terms(k, l, v, true);
   ASSERT_GT(r.normal_force, 0);                        // pressing
   ASSERT_LT(l.mu * r.normal_force, l.k_weight);        // below the sticking cap: B = mu N
@@ -86,6 +93,37 @@ TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
   const PairResult c = pair_terms(k, capped, v, true);
   EXPECT_NEAR(c.bound, 1e-3, 1e-15);
   check_derivatives(k, capped, v, true);
+}
+
+// The line search's merit with Coulomb friction (ContactFormulation::
+// anchor_merit): the bound frozen at an iterate v0 makes the energy a
+// potential whose gradient at v0 is the live term's gradient (the residual),
+// while gradient and Hessian stay the live, unsymmetric ones.
+TEST(PenaltyPair, CoulombMeritAnchoredAtAnIterateHasTheResidualAsGradient) {
+  const std::array<Vec2, 3>& v0 = kSliding;
+  const PairKinematics k = body_pair();
+  const PairLaw l = coulomb_below_cap();
+  const PairResult live = pair_terms(k, l, v0, true);
+  ASSERT_GT(live.bound, 0);
+  PairLaw anchored = l;
+  anchored.merit_bound = live.bound;
+  const PairResult r = pair_terms(k, anchored, v0, true);
+  double grad_error = 0, live_fd_error = 0;
+  for (int j = 0; j < 6; ++j) {
+    EXPECT_EQ(r.grad[j], live.grad[j]);
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(r.hess[j * 6 + i], live.hess[j * 6 + i]);
+    const double h = 1e-7;
+    auto vp = v0, vm = v0;
+    vp[j / 2](j % 2) += h;
+    vm[j / 2](j % 2) -= h;
+    const double fd = (pair_terms(k, anchored, vp, false).energy - pair_terms(k, anchored, vm, false).energy) / (2 * h);
+    const double fd_live = (pair_terms(k, l, vp, false).energy - pair_terms(k, l, vm, false).energy) / (2 * h);
+    grad_error = std::max(grad_error, std::abs(fd - r.grad[j]) / (1 + std::abs(r.grad[j])));
+    live_fd_error = std::max(live_fd_error, std::abs(fd_live - r.grad[j]) / (1 + std::abs(r.grad[j])));
+  }
+  EXPECT_LT(grad_error, 1e-6);
+  // Without the anchor the energy's gradient is not the term's gradient.
+  EXPECT_GT(live_fd_error, 1e-3);
 }
 
 TEST(PenaltyPair, ActionEqualsReaction) {
