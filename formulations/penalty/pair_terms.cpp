@@ -27,7 +27,7 @@ PairResult pair_terms(const PairKinematics& p, const PairLaw& law, const std::ar
   }
   // A lifted pair in contact keeps a small part of its stiffness (see
   // PairLaw::keep_stiffness): the Newton matrix, not the Hessian.
-  constexpr double kLifted = 1e-4;
+  constexpr double kLifted = 1e-6;
   const double k = pressing || r == 0 ? law.beta : law.keep_stiffness ? kLifted * law.beta : 0.0;
   if (want_hess && k > 0)
     for (int j = 0; j < nd; ++j)

@@ -50,12 +50,13 @@ struct PairLaw {
   double beta = 0;            // N s/mm
   double inv_dt = 0;          // 1/dt with the gap correction, else 0
   bool one_sided = false;     // penalize only r < 0
-  bool keep_stiffness = false;  // one-sided, r > 0: still return 1e-4 beta dn dn^T
+  bool keep_stiffness = false;  // one-sided, r > 0: still return 1e-6 beta dn dn^T
                                 // (a pair in contact lifted by an iterate: keeps
                                 // a body held only by contacts from floating in
                                 // the Newton matrix; not the exact Hessian, which
-                                // slows Newton by about 1e-4 beta / (1e-4 beta + K)
-                                // per iteration in that pair's direction). At
+                                // slows Newton by about 1e-6 beta / (1e-6 beta + K)
+                                // per iteration in that pair's direction: 1e-2
+                                // of an element's stiffness at the default beta). At
                                 // r = 0 exactly (a node resting at zero gap at
                                 // the start) the full beta is used.
   FrictionLaw::Kind kind = FrictionLaw::Kind::None;

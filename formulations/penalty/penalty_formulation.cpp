@@ -94,12 +94,14 @@ void PenaltyContact::begin_step(const StepView& v) {
     }
     const double tol = switch_tol_ * f.h;
     const Penetrations from0 = count_penetrations(hits0, tol), from1 = count_penetrations(hits1, tol);
-    const int slave = hallquist_slave(f.slave, from0, from1);
+    const int slave = f.switched_step == v.step ? f.slave : hallquist_slave(f.slave, from0, from1, f.switch_guard);
     // What one pass lets through: the master's nodes inside the slave.
     master_penetration_ = std::max(master_penetration_, (slave == 0 ? from1 : from0).deepest / f.h);
     if (slave != f.slave) {
       std::fill(f.active[f.slave].begin(), f.active[f.slave].end(), 0);
       f.slave = slave;
+      f.switch_guard = (slave == 0 ? from0 : from1).deepest;
+      f.switched_step = v.step;
       ++role_switches_;
       events_.push_back("interface " + f.name + ": roles switch, the slave is now " +
                         scene_.mesh.body_names[f.side[slave].body]);

@@ -17,7 +17,7 @@
 //     1e4 (p = sigma_ref). An instantaneous solve (no gap yet) lets the
 //     bodies approach at p / beta_hat, 1e-4 of v_ref h / L: the two-pass
 //     patch test's first solve is uniform to 4e-4 with it, 3.5e-3 with 1e3
-//     (docs/notes.md); Newton's cost barely changes (Test II: +8 %).
+//     (docs/notes.md); Newton's cost barely changes (Test II: +5 %).
 //   Friction: Chen-Kobayashi arctan law on the relative tangential velocity,
 //     Coulomb with its consistent (unsymmetric) tangent: UMFPACK.
 //   Contact state: a slave node touching (gap <= touch tolerance) becomes
@@ -69,6 +69,8 @@ class PenaltyContact final : public ContactFormulation {
     double h = 0;                       // mm, mean slave edge length at the start
     double sigma_ref = 0;               // MPa
     int slave = 0;                      // one-pass: the slave side
+    double switch_guard = 0;            // mm, the master penetration that made the last switch
+    int switched_step = -1;             // the step of the last switch (at most one per step)
     std::array<std::vector<char>, 2> active;  // per side, per surface node
   };
   struct Pair {

@@ -19,10 +19,10 @@ double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s) {
   return s.edges.empty() ? 0.0 : sum / s.edges.size();
 }
 
-int hallquist_slave(int current, const Penetrations& from0, const Penetrations& from1) {
+int hallquist_slave(int current, const Penetrations& from0, const Penetrations& from1, double guard) {
   const Penetrations& slave = current == 0 ? from0 : from1;
   const Penetrations& master = current == 0 ? from1 : from0;
-  return master.count > slave.count ? 1 - current : current;
+  return master.count > slave.count && master.deepest > guard ? 1 - current : current;
 }
 
 }  // namespace rpfem

@@ -24,7 +24,11 @@ double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s);
 
 // The slave side (0 or 1) after this configuration: `current` unless the
 // master's nodes penetrate the slave at more nodes than the slave's nodes
-// penetrate the master.
-int hallquist_slave(int current, const Penetrations& from0, const Penetrations& from1);
+// penetrate the master, and deeper than `guard` (mm). The caller passes the
+// depth that made the last switch: roles switch back only if the master
+// now penetrates deeper than that, i.e. the switch made things worse (one
+// pass lets either side's master sink a little every step; without the
+// guard a flat interface switched at every step and back).
+int hallquist_slave(int current, const Penetrations& from0, const Penetrations& from1, double guard = 0);
 
 }  // namespace rpfem

@@ -2,12 +2,15 @@
 // exact load and the direct formulation on flat-die upsetting; the paper's
 // Test I (symmetry, single against double action, penetration at the
 // default beta, action equals reaction between two bodies); Test II; the
-// contact patch test (two-pass exact, one-pass measured).
+// contact patch test (two-pass exact, one-pass measured); role switching.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <set>
+#include <string>
 
 #include "analytic.hpp"
 #include "curve_comparison.hpp"
@@ -174,4 +177,52 @@ TEST(PatchTest, TwoPassRecoversTheHomogeneousFlowOnePassIsMeasured) {
               "%.2e, penetration / element size %.2e; one pass: strain rate off by %.2e (max), %.2e (L2), load "
               "%.2e from two-pass, %g role switches\n",
               two, two_late, two_vel, pen, one, one_l2, std::abs(F1 / F2 - 1), h1.at("role_switches").back());
+}
+
+// Role switching (cases/role_switch_flat_punch.toml): the coarser punch's
+// corner sinks into the finer block, which started as the slave; the roles
+// switch (at most once per step), the slave's penetration is removed in the
+// step after each switch, the switch brings the one-pass load closer to
+// two-pass than it was before, and the load ends within 1 % of two-pass.
+TEST(RoleSwitch, CornerOfTheMasterMakesItTheSlave) {
+  const std::string d1 = run_case("role_switch_flat_punch", "", 0, "_one");
+  const std::string d2 = run_case("role_switch_flat_punch", "--variant two_pass", 0, "_two");
+  const History h1 = read_history(d1 + "/history.csv"), h2 = read_history(d2 + "/history.csv");
+  EXPECT_NEAR(h1.at("stroke").back(), 0.5, 1e-9);
+  std::ifstream events(d1 + "/events.csv");
+  std::string line, first;
+  std::vector<int> switch_steps;
+  while (std::getline(events, line))
+    if (line.find("roles switch") != std::string::npos) {
+      switch_steps.push_back(std::stoi(line.substr(0, line.find(','))));
+      if (first.empty()) first = line;
+    }
+  ASSERT_FALSE(switch_steps.empty());
+  EXPECT_NE(first.find("the slave is now punch"), std::string::npos) << first;
+  EXPECT_EQ(h1.at("role_switches").back(), static_cast<double>(switch_steps.size()));
+  EXPECT_EQ(std::set<int>(switch_steps.begin(), switch_steps.end()).size(), switch_steps.size());
+  const std::set<int> switched(switch_steps.begin(), switch_steps.end());
+  double pen = 0, master = 0, imbalance = 0;
+  for (std::size_t i = 0; i < h1.rows(); ++i) {
+    const int step = static_cast<int>(h1.at("step")[i]);
+    if (!switched.count(step)) pen = std::max(pen, h1.at("max_penetration_rel")[i]);
+    master = std::max(master, h1.at("master_penetration_rel")[i]);
+    imbalance = std::max(imbalance, h1.at("force_imbalance")[i]);
+  }
+  EXPECT_LT(pen, 1e-3);
+  EXPECT_LT(master, 0.1);
+  EXPECT_LT(imbalance, 1e-8);
+  const auto load_error = [&](std::size_t i) { return std::abs(h1.at("ram.Fy")[i] / h2.at("ram.Fy")[i] - 1); };
+  ASSERT_EQ(h1.rows(), h2.rows());
+  double worst = 0;
+  for (std::size_t i = 0; i < h1.rows(); ++i) worst = std::max(worst, load_error(i));
+  const std::size_t after = static_cast<std::size_t>(switch_steps.front()) + 1;
+  EXPECT_LT(load_error(after), 0.25 * load_error(0));
+  const double load = load_error(h1.rows() - 1);
+  EXPECT_LT(load, 1e-2);
+  std::printf("[measured] role switching: %zu switches (first at step %d), slave penetration / element size %.2e "
+              "outside the switch steps, master %.2e; load from two-pass %.2e before the first switch, %.2e after it, "
+              "%.2e at 10 %%, worst %.2e; action-reaction %.2e\n",
+              switch_steps.size(), switch_steps.front(), pen, master, load_error(0), load_error(after), load, worst,
+              imbalance);
 }

@@ -185,6 +185,10 @@ TEST(HallquistRule, TheBodyThatPenetratesBecomesTheSlave) {
   EXPECT_EQ(hallquist_slave(1, some, none), 0);
   EXPECT_EQ(hallquist_slave(0, more, some), 0);  // the slave's own penetrate more: keep
   EXPECT_EQ(hallquist_slave(1, some, some), 1);  // a tie keeps the roles
+  // The guard (the depth that made the last switch): switching back needs
+  // the master's nodes deeper than that.
+  EXPECT_EQ(hallquist_slave(0, none, some, 0.02), 0);
+  EXPECT_EQ(hallquist_slave(0, none, more, 0.01), 1);
 }
 
 TEST(HallquistRule, PenetrationsCountedOnCraftedSurfaces) {
