@@ -1,12 +1,7 @@
 // The penalty formulation's term for one contact pair: a slave node against
 // a master segment of another body (3 nodes) or against a rigid die (1 node).
 //
-// Relative velocity of the slave node to the master surface at xi (paper
-// eq. 9, 12; master velocity interpolated linearly on the segment):
-//   u = v_s - (1 - xi) v_a - xi v_b      (body master)
-//   u = v_s - v_die                      (die master)
-//   gamma_N = u . n   (gap rate; paper eq. 5 with the opposite sign: > 0 opens)
-//   gamma_T = u . t,  t = (-n_y, n_x)
+// Relative velocity u, gamma_N and gamma_T: contact/pair_kinematics.hpp.
 // Normal (paper eq. 7-8), with the gap correction of the step:
 //   r = gamma_N + g0 / dt   (the gap at the end of the step over dt, g0 the
 //                            gap where the velocity moves the nodes from;
@@ -32,19 +27,10 @@
 #include <array>
 
 #include "contact/friction_law.hpp"
+#include "contact/pair_kinematics.hpp"
 #include "core/types.hpp"
 
 namespace rpfem {
-
-struct PairKinematics {
-  int k = 1;                        // nodes: slave, then master a, b
-  std::array<Index, 3> nodes{};     // mesh node ids
-  std::array<double, 3> c{1, 0, 0}; // u = sum_a c_a v_a - offset
-  Vec2 offset = Vec2::Zero();       // die velocity (die master), mm/s
-  Vec2 n = Vec2::Zero();            // unit master outward normal
-  double gap0 = 0;                  // mm, in the configuration solved on
-  double gap_from = 0;              // mm, where the velocity moves the nodes from
-};
 
 struct PairLaw {
   double beta = 0;            // N s/mm

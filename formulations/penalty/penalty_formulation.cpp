@@ -130,13 +130,7 @@ void PenaltyContact::collect_pairs(const StepView& v, int iface, int side,
     p.side = side;
     p.local = l;
     if (f.die >= 0) {
-      const Die& d = scene_.dies[f.die];
-      const DieProjection proj = d.project(x[n], v.time);
-      p.kin.k = 1;
-      p.kin.nodes = {n, 0, 0};
-      p.kin.offset = d.motion.velocity(v.time);
-      p.kin.n = proj.normal;
-      p.kin.gap0 = proj.distance;
+      p.kin = die_pair(scene_.dies[f.die], n, x, v.time);
     } else {
       const auto& hit = hits[l];
       if (!hit) {
@@ -148,27 +142,12 @@ void PenaltyContact::collect_pairs(const StepView& v, int iface, int side,
       }
       const Edge& e = f.side[1 - side].edges[hit->edge];
       p.master_element = e.element;
-      p.kin.k = 3;
-      p.kin.nodes = {n, e.a, e.b};
-      p.kin.c = {1.0, -(1.0 - hit->xi), -hit->xi};
-      p.kin.n = hit->normal;
-      p.kin.gap0 = hit->gap;
+      p.kin = segment_pair(n, e, *hit);
     }
     // The gap where the solved velocity moves the nodes from (the start of
-    // the step, in the midpoint scheme's half-step solve): the same master
-    // point, moved back by the relative displacement in between.
-    p.kin.gap_from = p.kin.gap0;
-    if (v.x_from && v.x_from != v.x) {
-      const auto& x0 = *v.x_from;
-      Vec2 back = x[n] - x0[n];
-      if (f.die >= 0) {
-        const DieMotion& m = scene_.dies[f.die].motion;
-        back -= m.displacement(v.time) - m.displacement(v.time_from);
-      } else {
-        for (int a = 1; a < 3; ++a) back += p.kin.c[a] * (x[p.kin.nodes[a]] - x0[p.kin.nodes[a]]);
-      }
-      p.kin.gap_from -= back.dot(p.kin.n);
-    }
+    // the step, in the midpoint scheme's half-step solve).
+    if (v.x_from && v.x_from != v.x)
+      set_gap_from(p.kin, x, *v.x_from, v.time, v.time_from, f.die >= 0 ? &scene_.dies[f.die] : nullptr);
     // An instantaneous solve anticipates no landing: only nodes touching
     // now (to within what a landing leaves, kLandingTolerance of the
     // element size) take part, and only a penetration is corrected over dt.
@@ -264,12 +243,6 @@ std::array<Vec2, 3> PenaltyContact::pair_forces(const Pair& p) const {
   return f;
 }
 
-double PenaltyContact::gap_rate(const Pair& p, const std::vector<Vec2>& vel) const {
-  Vec2 u = -p.kin.offset;
-  for (int a = 0; a < p.kin.k; ++a) u += p.kin.c[a] * vel[p.kin.nodes[a]];
-  return u.dot(p.kin.n);
-}
-
 void PenaltyContact::couplings(const StepView&, std::vector<std::vector<Index>>& out) const {
   for (const Pair& p : pairs_)
     if (engaged(p) && p.kin.k > 1) out.push_back({p.kin.nodes.begin(), p.kin.nodes.begin() + p.kin.k});
@@ -304,7 +277,7 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
       // Only with the gap correction: without it an active pair keeps its
       // gap, and a node made active short of its master would stay there.
       if (!gap_correction_ || p.changed || !(v.dt > 0)) continue;
-      const double end_gap = p.kin.gap_from + v.dt * gap_rate(p, vel);
+      const double end_gap = p.kin.gap_from + v.dt * gap_rate(p.kin, vel);
       if (end_gap < -touch_tol_) {
         set_active(p, true);
         touched = true;
@@ -380,7 +353,7 @@ std::optional<double> PenaltyContact::limit_dt(const StepView& v, const std::vec
   std::optional<double> limit;
   for (const Pair& p : pairs_) {
     if (active(p) || p.kin.gap0 <= 0) continue;
-    const double closing = -gap_rate(p, vel);
+    const double closing = -gap_rate(p.kin, vel);
     if (closing <= 0) continue;
     const double t = p.kin.gap0 / closing;
     if (t < v.dt && (!limit || t < *limit)) limit = t;

@@ -101,8 +101,6 @@ class PenaltyContact final : public ContactFormulation {
   bool engaged(const Pair& p) const { return one_sided() ? !p.free : active(p); }
   StepCheck check_one_sided(const StepView& v, const std::vector<Vec2>& vel);
   void continue_smoothing(StepCheck& out);
-  // Relative normal velocity gamma_N of the pair at nodal velocities vel.
-  double gap_rate(const Pair& p, const std::vector<Vec2>& vel) const;
   void set_laws(const StepView& v);
   PairResult evaluate(const Pair& p, const std::vector<Vec2>& vel, bool hess) const;
   // Force of pair p on each of its nodes (the contact force on the bodies).

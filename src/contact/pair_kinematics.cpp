@@ -1,0 +1,41 @@
+#include "contact/pair_kinematics.hpp"
+
+namespace rpfem {
+
+PairKinematics die_pair(const Die& d, Index node, const std::vector<Vec2>& x, double t) {
+  const DieProjection proj = d.project(x[node], t);
+  PairKinematics k;
+  k.k = 1;
+  k.nodes = {node, 0, 0};
+  k.offset = d.motion.velocity(t);
+  k.n = proj.normal;
+  k.gap0 = k.gap_from = proj.distance;
+  return k;
+}
+
+PairKinematics segment_pair(Index node, const Edge& e, const SegmentHit& hit) {
+  PairKinematics k;
+  k.k = 3;
+  k.nodes = {node, e.a, e.b};
+  k.c = {1.0, -(1.0 - hit.xi), -hit.xi};
+  k.n = hit.normal;
+  k.gap0 = k.gap_from = hit.gap;
+  return k;
+}
+
+void set_gap_from(PairKinematics& k, const std::vector<Vec2>& x, const std::vector<Vec2>& x_from, double t,
+                  double t_from, const Die* die) {
+  const Index s = k.nodes[0];
+  Vec2 back = x[s] - x_from[s];
+  if (die) back -= die->motion.displacement(t) - die->motion.displacement(t_from);
+  for (int a = 1; a < k.k; ++a) back += k.c[a] * (x[k.nodes[a]] - x_from[k.nodes[a]]);
+  k.gap_from = k.gap0 - back.dot(k.n);
+}
+
+double gap_rate(const PairKinematics& k, const std::vector<Vec2>& vel) {
+  Vec2 u = -k.offset;
+  for (int a = 0; a < k.k; ++a) u += k.c[a] * vel[k.nodes[a]];
+  return u.dot(k.n);
+}
+
+}  // namespace rpfem
