@@ -1,6 +1,7 @@
 #include "factory.hpp"
 
 #include "direct/direct_formulation.hpp"
+#include "ipopt/ipopt_formulation.hpp"
 #include "none/none_formulation.hpp"
 #include "penalty/penalty_formulation.hpp"
 
@@ -11,6 +12,7 @@ const std::vector<FormulationInfo>& formulations() {
       {"none", "no contact: platens as prescribed velocities, tractions, symmetry planes"},
       {"direct", "rigid dies as kinematic constraints (ALPID): exact normal velocity, free sliding"},
       {"penalty", "node-to-segment penalty on the normal relative velocity, between bodies and against dies (the paper)"},
+      {"ipopt", "each step a constrained minimization solved by Ipopt: the Kuhn-Tucker contact conditions to solver tolerance"},
   };
   return list;
 }
@@ -28,6 +30,7 @@ std::unique_ptr<ContactFormulation> make_formulation(const std::string& name, Ca
   }
   if (name == "direct") return std::make_unique<DirectContact>(scene, all.section("direct"));
   if (name == "penalty") return std::make_unique<PenaltyContact>(scene, all.section("penalty"));
+  if (name == "ipopt") return std::make_unique<IpoptContact>(scene, all.section("ipopt"));
   std::string known;
   for (const auto& f : formulations()) known += (known.empty() ? "" : ", ") + f.name;
   throw InputError(file.path() + ": formulation '" + name + "' is unknown; expected one of: " + known);

@@ -15,13 +15,6 @@ namespace {
 // linearized geometry of the step), relative to the element size.
 constexpr double kLandingTolerance = 1e-3;
 
-// The largest prescribed speed of the scene (dies and velocity groups), mm/s.
-double largest_speed(const Scene& s) {
-  double v = 0;
-  for (const Die& d : s.dies) v = std::max(v, d.motion.max_speed());
-  for (const auto& g : s.velocities) v = std::max(v, Vec2(g.vx.value_or(0), g.vy.value_or(0)).norm());
-  return v;
-}
 
 }  // namespace
 
@@ -29,7 +22,7 @@ PenaltyContact::PenaltyContact(const Scene& scene, CaseSection settings) : scene
   if (scene.contact_pairs.empty())
     throw InputError(scene.file + ": formulation 'penalty' needs at least one [[contact_pairs]] entry");
   const double size = scene.mesh.size();
-  speed_scale_ = largest_speed(scene);
+  speed_scale_ = scene.largest_speed();
   if (!(speed_scale_ > 0)) throw InputError(scene.file + ": formulation 'penalty' scales beta by the largest "
                                                          "prescribed speed, but nothing moves");
   const double beta_factor = settings.real("beta_factor", 1.0, Range::positive(), "times the default beta");

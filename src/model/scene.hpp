@@ -3,6 +3,7 @@
 // stepping settings. Contact is described by the formulation's own section,
 // kept here unparsed for the formulation factory. Defaults: docs/case-format.md.
 #pragma once
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -96,6 +97,14 @@ struct Scene {
   SolverSpec solver;
   SteppingSpec stepping;
   std::string formulation = "none";  // default contact formulation of the scene
+
+  // The largest prescribed speed (dies and velocity groups), mm/s.
+  double largest_speed() const {
+    double v = 0;
+    for (const Die& d : dies) v = std::max(v, d.motion.max_speed());
+    for (const auto& g : velocities) v = std::max(v, Vec2(g.vx.value_or(0), g.vy.value_or(0)).norm());
+    return v;
+  }
 };
 
 }  // namespace rpfem

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include "material/flow_stress.hpp"
+
 namespace rpfem::accept {
 
 inline std::string test_out_dir(const std::string& suffix = "") {
@@ -27,6 +29,20 @@ inline std::string run_case(const std::string& name, const std::string& extra = 
   const int status = std::system(cmd.c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == rc) << cmd;
   return out;
+}
+
+// AISI 1035 as the upsetting cases state it (eps0 = 0.02; with the rate
+// term m = 0.01, rate_ref = 0.1 1/s of the plane-strain case).
+inline FlowStressLaw aisi1035(bool rate_sensitive = false) {
+  FlowStressLaw l;
+  l.K = 91.97 * kKgfPerMm2ToMPa;
+  l.n = 0.17;
+  l.eps0 = 0.02;
+  if (rate_sensitive) {
+    l.m = 0.01;
+    l.rate_ref = 0.1;
+  }
+  return l;
 }
 
 }  // namespace rpfem::accept

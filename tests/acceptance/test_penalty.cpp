@@ -28,10 +28,7 @@ TEST(Penalty, FlatDieUpsettingMatchesExactLoadAndDirect) {
   const std::string dir = run_case("upsetting_dies_frictionless_axisym", "--formulation direct", 0, "_direct");
   const History hp = read_history(pen + "/history.csv"), hd = read_history(dir + "/history.csv");
   ASSERT_EQ(hp.rows(), hd.rows());
-  FlowStressLaw l;
-  l.K = 91.97 * kKgfPerMm2ToMPa;
-  l.n = 0.17;
-  l.eps0 = 0.02;
+  const FlowStressLaw l = accept::aisi1035();
   double worst_exact = 0, worst_direct = 0, worst_pen = 0;
   for (std::size_t i = 0; i < hp.rows(); ++i) {
     ASSERT_NEAR(hp.at("stroke")[i], hd.at("stroke")[i], 1e-12);

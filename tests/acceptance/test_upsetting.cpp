@@ -28,19 +28,7 @@ std::string run_file(const std::string& path, const std::string& extra) {
 }
 using accept::run_case;
 
-// As stated in the case files; the plane-strain case adds the rate term
-// m = 0.01, rate_ref = 0.1 1/s (see its header for why).
-FlowStressLaw aisi1035(bool rate_sensitive) {
-  FlowStressLaw l;
-  l.K = 91.97 * kKgfPerMm2ToMPa;
-  l.n = 0.17;
-  l.eps0 = 0.02;
-  if (rate_sensitive) {
-    l.m = 0.01;
-    l.rate_ref = 0.1;
-  }
-  return l;
-}
+using accept::aisi1035;
 
 void check_run(const std::string& dir, bool axisymmetric, const std::string& load = "top_platen.Fy") {
   const double H0 = 20, D0 = 20;

@@ -1,0 +1,283 @@
+#include "ipopt/ipopt_formulation.hpp"
+
+#include <IpIpoptApplication.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "fem/edge_weights.hpp"
+#include "ipopt/step_nlp.hpp"
+#include "model/boundary.hpp"
+#include "model/step_problem.hpp"
+
+namespace rpfem {
+
+namespace {
+
+// An instantaneous solve (StepView::moves false) anticipates no landing:
+// only nodes within this fraction of the element size take part (as in
+// `penalty`).
+constexpr double kLandingTolerance = 1e-3;
+// Kuhn-Tucker residuals (as checked after each solve) that make Ipopt's
+// "acceptable" point a solution.
+constexpr double kAcceptKkt = 1e-9;
+
+double mean_edge(const std::vector<Vec2>& x, const ContactSurface& s) {
+  double sum = 0;
+  for (const Edge& e : s.edges) sum += (x[e.b] - x[e.a]).norm();
+  return s.edges.empty() ? 0.0 : sum / static_cast<double>(s.edges.size());
+}
+
+}  // namespace
+
+IpoptContact::IpoptContact(const Scene& scene, CaseSection settings) : scene_(scene) {
+  if (scene.contact_pairs.empty())
+    throw InputError(scene.file + ": formulation 'ipopt' needs at least one [[contact_pairs]] entry");
+  opt_.tol = settings.real("tol", 1e-10, Range::positive(), "Ipopt's tol (scaled NLP error)");
+  opt_.bound_relax_factor =
+      settings.real("bound_relax_factor", 1e-10, Range::nonnegative(), "Ipopt's relaxation of the contact bounds");
+  opt_.max_iter = settings.integer("max_iter", 500, 1, 100000);
+  opt_.mu_strategy = settings.text("mu_strategy", "monotone", {"monotone", "adaptive"});
+  opt_.linear_solver = settings.text("linear_solver", "mumps", {"mumps"});
+  opt_.print_level = settings.integer("print_level", 0, 0, 12);
+  opt_.mu_init = settings.real("mu_init", 1e-6, Range::positive(), "Ipopt's initial barrier parameter");
+  capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
+  speed_scale_ = scene.largest_speed();
+  if (!(speed_scale_ > 0)) throw InputError(scene.file + ": formulation 'ipopt' scales by the largest prescribed speed, but nothing moves");
+  sigma_ref_ = INFINITY;
+  for (const auto& b : scene.bodies) sigma_ref_ = std::min(sigma_ref_, b.law.yield(0.0));
+  sym_tol_ = 1e-9 * scene.mesh.size();
+  for (const auto& pair : scene.contact_pairs) {
+    const FrictionLaw& fr = pair.with_die() ? scene.dies[pair.die_id].friction : pair.friction;
+    if (fr.kind != FrictionLaw::Kind::None)
+      throw InputError(scene.file + ": formulation 'ipopt' treats frictionless contact only so far; contact pair '" +
+                       pair.body + "' has friction (use 'penalty' or 'direct')");
+    Interface f;
+    const ContactSurface s0 = ContactSurface::from_sides(scene.mesh, pair.sides);
+    if (pair.with_die()) {
+      f.name = pair.body + "-" + pair.die;
+      f.die = pair.die_id;
+      f.slave = s0;
+    } else {
+      f.name = pair.body + "-" + pair.with_body;
+      const ContactSurface s1 = ContactSurface::from_sides(scene.mesh, pair.with_sides);
+      const bool first_finer = mean_edge(scene.mesh.x, s0) <= mean_edge(scene.mesh.x, s1);
+      f.slave = first_finer ? s0 : s1;
+      f.master = first_finer ? s1 : s0;
+    }
+    f.h = mean_edge(scene.mesh.x, f.slave);
+    for (const Edge& e : f.slave.edges) {
+      const auto w = edge_weights(scene.mesh.x[e.a], scene.mesh.x[e.b], scene.geometry);
+      area_ += w[0] + w[1];
+    }
+    ifaces_.push_back(std::move(f));
+  }
+}
+
+void IpoptContact::begin_step(const StepView& v) {
+  const auto& x = *v.x;
+  pairs_.clear();
+  for (int i = 0; i < static_cast<int>(ifaces_.size()); ++i) {
+    const Interface& f = ifaces_[i];
+    std::vector<std::optional<SegmentHit>> hits;
+    if (f.die < 0) {
+      const double capture = capture_ * mean_edge(x, f.master);
+      hits = find_segments(x, f.slave, f.master, SegmentGrid(x, f.master, capture), capture);
+    }
+    // The slave nodes' lumped contact areas.
+    std::vector<double> w(f.slave.nodes.size(), 0.0);
+    for (const Edge& e : f.slave.edges) {
+      const auto ew = edge_weights(x[e.a], x[e.b], v.geometry);
+      w[f.slave.local(e.a)] += ew[0], w[f.slave.local(e.b)] += ew[1];
+    }
+    for (int l = 0; l < static_cast<int>(f.slave.nodes.size()); ++l) {
+      const Index n = f.slave.nodes[l];
+      Pair p;
+      p.iface = i;
+      p.h = f.h;
+      p.weight = w[l];
+      if (f.die >= 0) {
+        p.kin = die_pair(scene_.dies[f.die], n, x, v.time);
+      } else {
+        if (!hits[l]) continue;
+        p.kin = segment_pair(n, f.master.edges[hits[l]->edge], *hits[l]);
+      }
+      if (v.x_from && v.x_from != v.x)
+        set_gap_from(p.kin, x, *v.x_from, v.time, v.time_from, f.die >= 0 ? &scene_.dies[f.die] : nullptr);
+      if (!v.moves) {
+        if (p.kin.gap0 > kLandingTolerance * f.h) continue;
+        p.kin.gap_from = std::min(p.kin.gap_from, 0.0);
+      }
+      pairs_.push_back(p);
+    }
+  }
+}
+
+std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& problem, Vec& u) {
+  // Rows: gamma_N(u) + g_from / dt >= 0 with v_a = T_a u_a + p_a.
+  const DofMap& dofs = problem.dofs();
+  const double inv_dt = v.dt > 0 ? 1.0 / v.dt : 0.0;
+  std::vector<LinearRow> rows;
+  std::vector<int> row_pair;
+  for (int j = 0; j < static_cast<int>(pairs_.size()); ++j) {
+    const PairKinematics& k = pairs_[j].kin;
+    LinearRow r;
+    double constant = -k.offset.dot(k.n);
+    for (int a = 0; a < k.k; ++a) {
+      const NodeFrame& fr = dofs.frame(k.nodes[a]);
+      constant += k.c[a] * k.n.dot(fr.p);
+      for (int q = 0; q < fr.nfree; ++q) r.terms.emplace_back(fr.dof[q], k.c[a] * k.n.dot(fr.T.col(q)));
+    }
+    if (r.terms.empty()) continue;  // nothing free to move: the kernel's constraints decide
+    r.lower = -(k.gap_from * inv_dt + constant);
+    rows.push_back(std::move(r));
+    row_pair.push_back(j);
+  }
+  // Force scale: the softest body's yield stress over the whole slave
+  // surface (what the contact could carry; a point contact at the start
+  // carries far less, and its own load would put round-off above tol).
+  const double force_scale = std::max(sigma_ref_ * area_, 1e-12);
+  NlpOutcome out;
+  Ipopt::SmartPtr<Ipopt::TNLP> nlp = new StepNlp(problem, rows, u, force_scale, speed_scale_, out);
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  auto& o = *app->Options();
+  o.SetStringValue("sb", "yes");
+  o.SetIntegerValue("print_level", opt_.print_level);
+  o.SetNumericValue("tol", opt_.tol);
+  o.SetNumericValue("bound_relax_factor", opt_.bound_relax_factor);
+  o.SetIntegerValue("max_iter", opt_.max_iter);
+  o.SetStringValue("mu_strategy", opt_.mu_strategy);
+  o.SetNumericValue("mu_init", opt_.mu_init);
+  o.SetStringValue("linear_solver", opt_.linear_solver);
+  o.SetStringValue("jac_d_constant", "yes");
+  o.SetStringValue("nlp_scaling_method", "user-scaling");
+  SolveOutcome result;
+  if (app->Initialize() != Ipopt::Solve_Succeeded) {
+    result.reason = "Ipopt: the options were refused";
+    return result;
+  }
+  app->OptimizeTNLP(nlp);
+  rows_ = static_cast<int>(rows.size());
+  result.iterations = out.iterations;
+  if (out.u.size() != u.size() || !out.u.allFinite()) {
+    result.reason = "Ipopt: " + ipopt_status_text(out.status) + " (no finite solution)";
+    return result;
+  }
+  // The Kuhn-Tucker conditions (paper eq. 6), checked here.
+  Vec R;
+  double scale = 0;
+  problem.residual(out.u, R, scale);
+  if (!(scale > 0)) scale = 1;
+  Vec stat = R;
+  for (auto& p : pairs_) p.force = 0, p.end_gap = p.kin.gap_from;
+  kkt_ = Kkt{};
+  active_ = 0;
+  max_penetration_ = max_penetration_rel_ = 0;
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const double lambda = out.lambda[j];
+    double value = 0;
+    for (const auto& [dof, a] : rows[j].terms) {
+      value += a * out.u[dof];
+      stat[dof] += a * lambda;
+    }
+    Pair& p = pairs_[row_pair[j]];
+    const double slack = value - rows[j].lower;  // mm/s
+    p.force = -lambda;
+    p.end_gap = v.dt * slack;
+    active_ += p.force > 0 && p.end_gap < 1e-6 * p.h ? 1 : 0;
+    const double pen = std::max(0.0, -p.end_gap);
+    max_penetration_ = std::max(max_penetration_, pen);
+    max_penetration_rel_ = std::max(max_penetration_rel_, pen / p.h);
+    kkt_.dual = std::max(kkt_.dual, std::max(0.0, -p.force) / scale);
+    kkt_.complementarity = std::max(kkt_.complementarity, std::abs(p.force * slack) / (scale * speed_scale_));
+  }
+  kkt_.primal = max_penetration_rel_;
+  kkt_.stationarity = stat.norm() / scale;
+  result.residual = kkt_.stationarity;
+  // Ipopt's "acceptable" point is taken when the conditions checked here
+  // hold to kAcceptKkt anyway (the scaled error stalled at round-off).
+  const bool acceptable = out.status == Ipopt::STOP_AT_ACCEPTABLE_POINT && kkt_.primal <= kAcceptKkt &&
+                          kkt_.dual <= kAcceptKkt && kkt_.complementarity <= kAcceptKkt &&
+                          kkt_.stationarity <= kAcceptKkt;
+  if (out.status != Ipopt::SUCCESS && !acceptable) {
+    result.reason = "Ipopt: " + ipopt_status_text(out.status);
+    return result;
+  }
+  u = out.u;
+  result.converged = true;
+  return result;
+}
+
+std::optional<double> IpoptContact::reference_speed(const std::string& name) const {
+  for (const auto& d : scene_.dies)
+    if (d.name == name) return d.motion.max_speed();
+  return std::nullopt;
+}
+
+std::array<Vec2, 3> IpoptContact::pair_forces(const Pair& p) const {
+  // The row's force on the bodies: -lambda d(row)/dv_a = N c_a n.
+  std::array<Vec2, 3> f{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+  for (int a = 0; a < p.kin.k; ++a) f[a] = p.force * p.kin.c[a] * p.kin.n;
+  return f;
+}
+
+void IpoptContact::contact_forces(const StepView&, const std::vector<Vec2>& vel, const std::vector<Vec2>&,
+                                  std::vector<Vec2>& out) const {
+  out.assign(vel.size(), Vec2::Zero());
+  for (const Pair& p : pairs_) {
+    const auto f = pair_forces(p);
+    for (int a = 0; a < p.kin.k; ++a) out[p.kin.nodes[a]] += f[a];
+  }
+}
+
+std::vector<std::string> IpoptContact::load_names() const {
+  std::vector<std::string> n;
+  for (const auto& d : scene_.dies) n.push_back(d.name);
+  return n;
+}
+
+std::vector<Vec2> IpoptContact::loads(const StepView& v, const std::vector<Vec2>&) const {
+  // A die's load: the force it exerts on the bodies (as in `direct`).
+  std::vector<Vec2> out;
+  for (int d = 0; d < static_cast<int>(scene_.dies.size()); ++d) {
+    Vec2 sum = Vec2::Zero();
+    std::vector<Index> nodes;
+    for (const Pair& p : pairs_)
+      if (ifaces_[p.iface].die == d && p.force != 0) {
+        sum += pair_forces(p)[0];
+        nodes.push_back(p.kin.nodes[0]);
+      }
+    out.push_back(sum.cwiseProduct(symmetry_load_factor(scene_.symmetry, *v.x, nodes, sym_tol_)));
+  }
+  return out;
+}
+
+void IpoptContact::node_fields(const StepView& v, std::map<std::string, std::vector<double>>& out) const {
+  auto& pr = out["contact_pressure"];
+  auto& gap = out["contact_gap"];
+  pr.assign(v.x->size(), 0.0);
+  gap.assign(v.x->size(), 0.0);
+  for (const Pair& p : pairs_) {
+    const Index s = p.kin.nodes[0];
+    gap[s] = p.kin.gap0;
+    if (p.weight > 0) pr[s] += p.force / p.weight;
+  }
+}
+
+std::vector<std::string> IpoptContact::report_names() const {
+  return {"contact_candidates", "contact_pairs", "max_penetration", "max_penetration_rel",
+          "kkt_primal", "kkt_dual", "kkt_complementarity", "kkt_stationarity"};
+}
+
+std::vector<double> IpoptContact::report() const {
+  return {static_cast<double>(rows_), static_cast<double>(active_), max_penetration_, max_penetration_rel_,
+          kkt_.primal, kkt_.dual, kkt_.complementarity, kkt_.stationarity};
+}
+
+std::vector<NamedValue> IpoptContact::derived() const {
+  std::vector<NamedValue> out{{"ipopt.speed_scale_mm_s", speed_scale_}};
+  for (const auto& f : ifaces_) out.push_back({"ipopt." + f.name + ".element_size_mm", f.h});
+  return out;
+}
+
+}  // namespace rpfem

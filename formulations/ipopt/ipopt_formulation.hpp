@@ -1,0 +1,93 @@
+// "ipopt": each step's velocity field as a constrained minimization solved
+// by Ipopt (Waechter and Biegler 2006) through its TNLP interface
+// (step_nlp.hpp): the bodies' rigid-plastic functional, exactly as the
+// kernel assembles it, subject to one linear inequality per candidate
+// contact pair: the gap at the end of the step, linearized in the
+// velocities, must not be negative,
+//   g_end / dt = gamma_N + g_from / dt >= 0        (pair_kinematics.hpp)
+// The multipliers are the normal contact forces N = -lambda >= 0, and the
+// solution meets the Kuhn-Tucker conditions of paper eq. 6 (gap >= 0,
+// N >= 0, N gap = 0) to Ipopt's tolerance; after each solve the
+// formulation checks them itself and reports the worst residual of each
+// (kkt_* in history.csv):
+//   primal: max(0, -g_end) / h      (penetration per element size)
+//   dual:   max(0, -N) / F          (F the element-force scale of the step)
+//   complementarity: max |N g_end / dt| / (F v_ref)
+//   stationarity: |R(u) + A^T lambda| / F
+// Candidates: every node of a die's contact side; between bodies, each node
+// of the finer surface over a segment of the other (one pass, roles fixed
+// at the start). The active set is Ipopt's business. Friction: not yet (a
+// scene with friction is refused).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "contact/pair_kinematics.hpp"
+#include "contact/segment_search.hpp"
+#include "io/case_file.hpp"
+#include "model/contact_formulation.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+class IpoptContact final : public ContactFormulation {
+ public:
+  IpoptContact(const Scene& scene, CaseSection settings);
+  std::string name() const override { return "ipopt"; }
+
+  void begin_step(const StepView& v) override;
+  std::optional<SolveOutcome> solve(const StepView& v, StepProblem& problem, Vec& u) override;
+  std::optional<double> reference_speed(const std::string& name) const override;
+  void contact_forces(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F,
+                      std::vector<Vec2>& out) const override;
+  std::vector<std::string> load_names() const override;
+  std::vector<Vec2> loads(const StepView& v, const std::vector<Vec2>& F) const override;
+  void node_fields(const StepView& v, std::map<std::string, std::vector<double>>& out) const override;
+  std::vector<std::string> report_names() const override;
+  std::vector<double> report() const override;
+  std::vector<NamedValue> derived() const override;
+
+  struct Options {
+    double tol = 1e-10;               // Ipopt's tol
+    double bound_relax_factor = 1e-10;
+    int max_iter = 500;
+    std::string mu_strategy = "monotone";
+    std::string linear_solver = "mumps";
+    int print_level = 0;
+    double mu_init = 1e-6;
+  };
+  struct Kkt {
+    double primal = 0, dual = 0, complementarity = 0, stationarity = 0;
+  };
+  struct Pair {
+    PairKinematics kin;
+    int iface = 0;
+    double h = 0;           // mm, the interface's element size
+    double weight = 0;      // mm^2, the slave node's contact area (for pressures)
+    double force = 0;       // N, normal contact force (-lambda) of the last solve
+    double end_gap = 0;     // mm, predicted gap at the end of the step
+  };
+  const std::vector<Pair>& pairs() const { return pairs_; }
+  const Kkt& kkt() const { return kkt_; }
+
+ private:
+  struct Interface {
+    std::string name;
+    ContactSurface slave, master;  // master empty for a die
+    int die = -1;
+    double h = 0;
+  };
+  std::array<Vec2, 3> pair_forces(const Pair& p) const;
+
+  const Scene& scene_;
+  Options opt_;
+  std::vector<Interface> ifaces_;
+  std::vector<Pair> pairs_;
+  double capture_ = 1, speed_scale_ = 0, sym_tol_ = 0, sigma_ref_ = 0;
+  double area_ = 0;  // mm^2, all slave surfaces at the start (force scale)
+  Kkt kkt_;
+  int active_ = 0, rows_ = 0;
+  double max_penetration_ = 0, max_penetration_rel_ = 0;
+};
+
+}  // namespace rpfem

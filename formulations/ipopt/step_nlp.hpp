@@ -1,0 +1,78 @@
+// One step's velocity field as Ipopt's nonlinear program (TNLP interface):
+//   minimize Pi(u)   (the kernel's functional: StepProblem::energy, its
+//                     gradient R(u) and its sparse consistent Hessian)
+//   subject to  a_j . u >= l_j   (linear contact rows: the gap at the end
+//                                 of the step, over dt, per candidate pair)
+// Exact first and second derivatives, sparse; the rows are constant, so
+// their Hessian is zero and Ipopt is told the Jacobian is constant.
+// Ipopt's multiplier convention: grad Pi + A^T lambda = 0 with lambda <= 0
+// for an active lower bound, so the row's force is -lambda (N).
+#pragma once
+#include <IpTNLP.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/types.hpp"
+#include "model/step_problem.hpp"
+
+namespace rpfem {
+
+struct LinearRow {
+  std::vector<std::pair<Index, double>> terms;  // (reduced dof, coefficient)
+  double lower = 0;                             // a . u >= lower
+};
+
+struct NlpOutcome {
+  Ipopt::SolverReturn status = Ipopt::INTERNAL_ERROR;
+  Vec u;                       // solution (reduced unknowns)
+  std::vector<double> lambda;  // row multipliers (Ipopt's sign: <= 0 pressing)
+  int iterations = 0;
+};
+
+class StepNlp final : public Ipopt::TNLP {
+ public:
+  // force_scale (N) and speed_scale (mm/s) scale the objective's gradient
+  // and the rows to order one (Ipopt's user scaling), so Ipopt's tol is
+  // relative to the contact load.
+  StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& start, double force_scale,
+          double speed_scale, NlpOutcome& out);
+
+  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
+                    IndexStyleEnum& index_style) override;
+  bool get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u, Ipopt::Index m, Ipopt::Number* g_l,
+                       Ipopt::Number* g_u) override;
+  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
+                          Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda, Ipopt::Number* lambda) override;
+  bool eval_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number& obj_value) override;
+  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number* grad_f) override;
+  bool eval_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Number* g) override;
+  bool eval_jac_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Index nele_jac,
+                  Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) override;
+  bool eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number obj_factor, Ipopt::Index m,
+              const Ipopt::Number* lambda, bool new_lambda, Ipopt::Index nele_hess, Ipopt::Index* iRow,
+              Ipopt::Index* jCol, Ipopt::Number* values) override;
+  bool get_scaling_parameters(Ipopt::Number& obj_scaling, bool& use_x_scaling, Ipopt::Index n,
+                              Ipopt::Number* x_scaling, bool& use_g_scaling, Ipopt::Index m,
+                              Ipopt::Number* g_scaling) override;
+  void finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,
+                         const Ipopt::Number* z_L, const Ipopt::Number* z_U, Ipopt::Index m,
+                         const Ipopt::Number* g, const Ipopt::Number* lambda, Ipopt::Number obj_value,
+                         const Ipopt::IpoptData* ip_data, Ipopt::IpoptCalculatedQuantities* ip_cq) override;
+
+ private:
+  StepProblem& problem_;
+  const std::vector<LinearRow>& rows_;
+  Vec start_;
+  double force_scale_ = 1, speed_scale_ = 1;
+  NlpOutcome& out_;
+  std::vector<std::pair<Ipopt::Index, Ipopt::Index>> lower_;  // (row, col) of the Hessian's lower triangle
+  Ipopt::Index jac_nnz_ = 0;
+  Vec map(Ipopt::Index n, const Ipopt::Number* x) const { return Eigen::Map<const Vec>(x, n); }
+};
+
+// Human-readable name of an Ipopt return status.
+std::string ipopt_status_text(Ipopt::SolverReturn status);
+
+}  // namespace rpfem
