@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "fem/edge_weights.hpp"
+#include "ipopt/friction_bounds.hpp"
 #include "ipopt/step_nlp.hpp"
 #include "model/boundary.hpp"
 #include "model/step_problem.hpp"
@@ -41,6 +42,9 @@ IpoptContact::IpoptContact(const Scene& scene, CaseSection settings) : scene_(sc
   opt_.linear_solver = settings.text("linear_solver", "mumps", {"mumps"});
   opt_.print_level = settings.integer("print_level", 0, 0, 12);
   opt_.mu_init = settings.real("mu_init", 1e-6, Range::positive(), "Ipopt's initial barrier parameter");
+  friction_tol_ = settings.real("friction_tolerance", 1e-6, Range::positive(),
+                                "relative change of the friction bounds that ends the fixed point");
+  last_force_.assign(scene.mesh.x.size(), 0.0);
   capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
   speed_scale_ = scene.largest_speed();
   if (!(speed_scale_ > 0)) throw InputError(scene.file + ": formulation 'ipopt' scales by the largest prescribed speed, but nothing moves");
@@ -48,11 +52,8 @@ IpoptContact::IpoptContact(const Scene& scene, CaseSection settings) : scene_(sc
   for (const auto& b : scene.bodies) sigma_ref_ = std::min(sigma_ref_, b.law.yield(0.0));
   sym_tol_ = 1e-9 * scene.mesh.size();
   for (const auto& pair : scene.contact_pairs) {
-    const FrictionLaw& fr = pair.with_die() ? scene.dies[pair.die_id].friction : pair.friction;
-    if (fr.kind != FrictionLaw::Kind::None)
-      throw InputError(scene.file + ": formulation 'ipopt' treats frictionless contact only so far; contact pair '" +
-                       pair.body + "' has friction (use 'penalty' or 'direct')");
     Interface f;
+    f.friction = pair.with_die() ? scene.dies[pair.die_id].friction : pair.friction;
     const ContactSurface s0 = ContactSurface::from_sides(scene.mesh, pair.sides);
     if (pair.with_die()) {
       f.name = pair.body + "-" + pair.die;
@@ -110,6 +111,29 @@ void IpoptContact::begin_step(const StepView& v) {
       }
       pairs_.push_back(p);
     }
+  }
+  // The first bounds of the step: from the last step's forces.
+  set_bounds(v, last_force_);
+}
+
+void IpoptContact::set_bounds(const StepView& v, const std::vector<double>& force) {
+  // k w over the slave's edges with both ends pressing (the contact area
+  // the sticking bound acts on, as in `direct` and `penalty`).
+  const auto& x = *v.x;
+  std::vector<double> kw(x.size(), 0.0);
+  for (const Interface& f : ifaces_) {
+    if (f.friction.kind == FrictionLaw::Kind::None) continue;
+    for (const Edge& e : f.slave.edges) {
+      if (!(force[e.a] > 0 && force[e.b] > 0)) continue;
+      const auto ew = edge_weights(x[e.a], x[e.b], v.geometry);
+      const double k = v.flow_stress ? (*v.flow_stress)[e.element] / std::sqrt(3.0) : 0.0;  // von Mises
+      kw[e.a] += k * ew[0], kw[e.b] += k * ew[1];
+    }
+  }
+  for (Pair& p : pairs_) {
+    const Index s = p.kin.nodes[0];
+    p.kw = kw[s];
+    p.bound = friction_bound(ifaces_[p.iface].friction, force[s], p.kw);
   }
 }
 
@@ -208,6 +232,50 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
   return result;
 }
 
+void IpoptContact::couplings(const StepView&, std::vector<std::vector<Index>>& out) const {
+  for (const Pair& p : pairs_)
+    if (p.kin.k > 1 && ifaces_[p.iface].friction.kind != FrictionLaw::Kind::None)
+      out.push_back({p.kin.nodes.begin(), p.kin.nodes.begin() + p.kin.k});
+}
+
+void IpoptContact::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
+  for (const Pair& p : pairs_) {
+    if (!(p.bound > 0)) continue;
+    std::array<Vec2, 3> v{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+    for (int a = 0; a < p.kin.k; ++a) v[a] = vel[p.kin.nodes[a]];
+    const FrictionTerm t = friction_term(p.kin, p.bound, ifaces_[p.iface].friction.a_relative * speed_scale_, v);
+    sink.add(p.kin.nodes.data(), p.kin.k, t.energy, t.grad.data(), t.hess.data());
+  }
+}
+
+StepCheck IpoptContact::check(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>&) {
+  // The friction force of this solve, then the fixed point on the bounds.
+  StepCheck out;
+  std::vector<double> force(vel.size(), 0.0), before(pairs_.size());
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    Pair& p = pairs_[i];
+    const FrictionLaw& law = ifaces_[p.iface].friction;
+    if (p.bound > 0) p.friction = -p.bound * arctan_potential(slip_rate(p.kin, vel), law.a_relative * speed_scale_).dpsi;
+    force[p.kin.nodes[0]] = std::max(force[p.kin.nodes[0]], p.force);
+    before[i] = p.bound;
+  }
+  set_bounds(v, force);
+  double largest = 0, change = 0;
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    largest = std::max({largest, before[i], pairs_[i].bound});
+    change = std::max(change, std::abs(pairs_[i].bound - before[i]));
+  }
+  friction_change_ = largest > 0 ? change / largest : 0.0;
+  out.resolve = friction_change_ > friction_tol_;
+  return out;
+}
+
+void IpoptContact::advance(const StepView&, const std::vector<Vec2>&) {
+  // The next step's first bounds come from this step's forces.
+  std::fill(last_force_.begin(), last_force_.end(), 0.0);
+  for (const Pair& p : pairs_) last_force_[p.kin.nodes[0]] = std::max(last_force_[p.kin.nodes[0]], p.force);
+}
+
 std::optional<double> IpoptContact::reference_speed(const std::string& name) const {
   for (const auto& d : scene_.dies)
     if (d.name == name) return d.motion.max_speed();
@@ -215,9 +283,11 @@ std::optional<double> IpoptContact::reference_speed(const std::string& name) con
 }
 
 std::array<Vec2, 3> IpoptContact::pair_forces(const Pair& p) const {
-  // The row's force on the bodies: -lambda d(row)/dv_a = N c_a n.
+  // The row's force on the bodies, -lambda d(row)/dv_a = N c_a n, and the
+  // friction force along t.
+  const Vec2 t(-p.kin.n(1), p.kin.n(0));
   std::array<Vec2, 3> f{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
-  for (int a = 0; a < p.kin.k; ++a) f[a] = p.force * p.kin.c[a] * p.kin.n;
+  for (int a = 0; a < p.kin.k; ++a) f[a] = p.kin.c[a] * (p.force * p.kin.n + p.friction * t);
   return f;
 }
 
@@ -254,24 +324,24 @@ std::vector<Vec2> IpoptContact::loads(const StepView& v, const std::vector<Vec2>
 
 void IpoptContact::node_fields(const StepView& v, std::map<std::string, std::vector<double>>& out) const {
   auto& pr = out["contact_pressure"];
+  auto& sh = out["contact_shear"];
   auto& gap = out["contact_gap"];
-  pr.assign(v.x->size(), 0.0);
-  gap.assign(v.x->size(), 0.0);
+  for (auto* f : {&pr, &sh, &gap}) f->assign(v.x->size(), 0.0);
   for (const Pair& p : pairs_) {
     const Index s = p.kin.nodes[0];
     gap[s] = p.kin.gap0;
-    if (p.weight > 0) pr[s] += p.force / p.weight;
+    if (p.weight > 0) pr[s] += p.force / p.weight, sh[s] += p.friction / p.weight;
   }
 }
 
 std::vector<std::string> IpoptContact::report_names() const {
   return {"contact_candidates", "contact_pairs", "max_penetration", "max_penetration_rel",
-          "kkt_primal", "kkt_dual", "kkt_complementarity", "kkt_stationarity"};
+          "kkt_primal", "kkt_dual", "kkt_complementarity", "kkt_stationarity", "friction_change"};
 }
 
 std::vector<double> IpoptContact::report() const {
   return {static_cast<double>(rows_), static_cast<double>(active_), max_penetration_, max_penetration_rel_,
-          kkt_.primal, kkt_.dual, kkt_.complementarity, kkt_.stationarity};
+          kkt_.primal, kkt_.dual, kkt_.complementarity, kkt_.stationarity, friction_change_};
 }
 
 std::vector<NamedValue> IpoptContact::derived() const {

@@ -16,8 +16,11 @@
 //   stationarity: |R(u) + A^T lambda| / F
 // Candidates: every node of a die's contact side; between bodies, each node
 // of the finer surface over a segment of the other (one pass, roles fixed
-// at the start). The active set is Ipopt's business. Friction: not yet (a
-// scene with friction is refused).
+// at the start). The active set is Ipopt's business. Friction
+// (friction_bounds.hpp): the arctan law's potential with its bound fixed in
+// a solve, updated from the multipliers between solves (a fixed point over
+// the kernel's contact passes) until it changes by less than
+// `friction_tolerance` of the largest bound.
 #pragma once
 #include <string>
 #include <vector>
@@ -36,7 +39,11 @@ class IpoptContact final : public ContactFormulation {
   std::string name() const override { return "ipopt"; }
 
   void begin_step(const StepView& v) override;
+  void couplings(const StepView& v, std::vector<std::vector<Index>>& out) const override;
+  void add_terms(const StepView& v, const std::vector<Vec2>& vel, TermSink& sink) const override;
   std::optional<SolveOutcome> solve(const StepView& v, StepProblem& problem, Vec& u) override;
+  StepCheck check(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
+  void advance(const StepView& v, const std::vector<Vec2>& vel) override;
   std::optional<double> reference_speed(const std::string& name) const override;
   void contact_forces(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F,
                       std::vector<Vec2>& out) const override;
@@ -66,6 +73,9 @@ class IpoptContact final : public ContactFormulation {
     double weight = 0;      // mm^2, the slave node's contact area (for pressures)
     double force = 0;       // N, normal contact force (-lambda) of the last solve
     double end_gap = 0;     // mm, predicted gap at the end of the step
+    double kw = 0;          // N, sticking bound: shear yield k times the area w
+    double bound = 0;       // N, friction bound B of this solve
+    double friction = 0;    // N, friction force on the slave along t, this solve
   };
   const std::vector<Pair>& pairs() const { return pairs_; }
   const Kkt& kkt() const { return kkt_; }
@@ -76,8 +86,11 @@ class IpoptContact final : public ContactFormulation {
     ContactSurface slave, master;  // master empty for a die
     int die = -1;
     double h = 0;
+    FrictionLaw friction;
   };
   std::array<Vec2, 3> pair_forces(const Pair& p) const;
+  // k w and the friction bound of every pair from per-node normal forces (N).
+  void set_bounds(const StepView& v, const std::vector<double>& force);
 
   const Scene& scene_;
   Options opt_;
@@ -85,6 +98,8 @@ class IpoptContact final : public ContactFormulation {
   std::vector<Pair> pairs_;
   double capture_ = 1, speed_scale_ = 0, sym_tol_ = 0, sigma_ref_ = 0;
   double area_ = 0;  // mm^2, all slave surfaces at the start (force scale)
+  double friction_tol_ = 0, friction_change_ = 0;
+  std::vector<double> last_force_;  // N per node: the last accepted solve's normal force (first bounds of a step)
   Kkt kkt_;
   int active_ = 0, rows_ = 0;
   double max_penetration_ = 0, max_penetration_rel_ = 0;

@@ -32,10 +32,18 @@ void set_gap_from(PairKinematics& k, const std::vector<Vec2>& x, const std::vect
   k.gap_from = k.gap0 - back.dot(k.n);
 }
 
-double gap_rate(const PairKinematics& k, const std::vector<Vec2>& vel) {
+namespace {
+Vec2 relative_velocity(const PairKinematics& k, const std::vector<Vec2>& vel) {
   Vec2 u = -k.offset;
   for (int a = 0; a < k.k; ++a) u += k.c[a] * vel[k.nodes[a]];
-  return u.dot(k.n);
+  return u;
+}
+}  // namespace
+
+double gap_rate(const PairKinematics& k, const std::vector<Vec2>& vel) { return relative_velocity(k, vel).dot(k.n); }
+
+double slip_rate(const PairKinematics& k, const std::vector<Vec2>& vel) {
+  return relative_velocity(k, vel).dot(Vec2(-k.n(1), k.n(0)));
 }
 
 }  // namespace rpfem

@@ -44,7 +44,8 @@ PairKinematics segment_pair(Index node, const Edge& e, const SegmentHit& hit);
 void set_gap_from(PairKinematics& k, const std::vector<Vec2>& x, const std::vector<Vec2>& x_from, double t,
                   double t_from, const Die* die);
 
-// gamma_N at nodal velocities vel (mm/s).
+// gamma_N and gamma_T at nodal velocities vel (mm/s).
 double gap_rate(const PairKinematics& k, const std::vector<Vec2>& vel);
+double slip_rate(const PairKinematics& k, const std::vector<Vec2>& vel);
 
 }  // namespace rpfem
