@@ -126,9 +126,12 @@ void RunObserver::on_retry(int step, double dt, const std::string& why) {
 }
 
 void RunObserver::write_summary() {
-  summary_.insert_or_assign("wall_time_s",
-                            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  summary_.insert_or_assign("wall_time_s", wall);
   summary_.insert_or_assign("steps", last_step_);
+  // Wall time over the finished steps (the first solve at the initial
+  // configuration included): what a formulation costs per step.
+  if (last_step_ > 0) summary_.insert_or_assign("time_per_step_s", wall / last_step_);
   write_text_atomically(dir_ + "/summary.json", to_json(summary_) + "\n");
 }
 

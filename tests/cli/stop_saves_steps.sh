@@ -18,6 +18,7 @@ rows=$(($(wc -l < "$tmp/o/history.csv") - 1))
 [ "$rows" -ge 1 ] || { echo "FAIL: no finished step in history.csv"; exit 1; }
 grep -q '"status" *: *"stopped"' "$tmp/o/summary.json" || { echo "FAIL: summary.json status"; exit 1; }
 grep -q '"reason"' "$tmp/o/summary.json" || { echo "FAIL: summary.json reason"; exit 1; }
+grep -q '"time_per_step_s" *: *[0-9]' "$tmp/o/summary.json" || { echo "FAIL: summary.json time_per_step_s"; exit 1; }
 h5dump -g /steps/000000 "$tmp/o/result.h5" > /dev/null || { echo "FAIL: step 0 not in result.h5"; exit 1; }
 grep -qi nan "$tmp/o/history.csv" && { echo "FAIL: NaN in history"; exit 1; }
 echo "ok: stopped cleanly with $rows finished step(s) saved"
