@@ -208,7 +208,7 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
     const double slack = value - rows[j].lower;  // mm/s
     p.force = -lambda;
     p.end_gap = v.dt * slack;
-    active_ += p.force > 0 && p.end_gap < 1e-6 * p.h ? 1 : 0;
+    active_ += pressing(p) ? 1 : 0;
     const double pen = std::max(0.0, -p.end_gap);
     max_penetration_ = std::max(max_penetration_, pen);
     max_penetration_rel_ = std::max(max_penetration_rel_, pen / p.h);
@@ -256,7 +256,7 @@ StepCheck IpoptContact::check(const StepView& v, const std::vector<Vec2>& vel, c
     Pair& p = pairs_[i];
     const FrictionLaw& law = ifaces_[p.iface].friction;
     if (p.bound > 0) p.friction = -p.bound * arctan_potential(slip_rate(p.kin, vel), law.a_relative * speed_scale_).dpsi;
-    force[p.kin.nodes[0]] = std::max(force[p.kin.nodes[0]], p.force);
+    if (pressing(p)) force[p.kin.nodes[0]] = std::max(force[p.kin.nodes[0]], p.force);
     before[i] = p.bound;
   }
   set_bounds(v, force);
@@ -273,7 +273,8 @@ StepCheck IpoptContact::check(const StepView& v, const std::vector<Vec2>& vel, c
 void IpoptContact::advance(const StepView&, const std::vector<Vec2>&) {
   // The next step's first bounds come from this step's forces.
   std::fill(last_force_.begin(), last_force_.end(), 0.0);
-  for (const Pair& p : pairs_) last_force_[p.kin.nodes[0]] = std::max(last_force_[p.kin.nodes[0]], p.force);
+  for (const Pair& p : pairs_)
+    if (pressing(p)) last_force_[p.kin.nodes[0]] = std::max(last_force_[p.kin.nodes[0]], p.force);
 }
 
 std::optional<double> IpoptContact::reference_speed(const std::string& name) const {

@@ -89,6 +89,12 @@ class IpoptContact final : public ContactFormulation {
     FrictionLaw friction;
   };
   std::array<Vec2, 3> pair_forces(const Pair& p) const;
+  // In contact after the last solve: at zero end gap (to kPressGap of the
+  // element size) with a compressive force. An interior point leaves tiny
+  // positive multipliers (about mu / slack) on rows far from contact; they
+  // must not count as contact (a ring's free faces got die friction).
+  bool pressing(const Pair& p) const { return p.force > 0 && p.end_gap < kPressGap * p.h; }
+  static constexpr double kPressGap = 1e-6;
   // k w and the friction bound of every pair from per-node normal forces (N).
   void set_bounds(const StepView& v, const std::vector<double>& force);
 
