@@ -104,6 +104,7 @@ class IpoptContact final : public ContactFormulation {
   std::vector<Pair> pairs_;
   double capture_ = 1, speed_scale_ = 0, sym_tol_ = 0, sigma_ref_ = 0;
   double area_ = 0;  // mm^2, all slave surfaces at the start (force scale)
+  double round_off_force_ = 0;  // Newton's tol_force (relative residual)
   double friction_tol_ = 0, friction_change_ = 0;
   std::vector<double> last_force_;  // N per node: the last accepted solve's normal force (first bounds of a step)
   Kkt kkt_;
