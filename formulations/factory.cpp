@@ -9,10 +9,12 @@ namespace rpfem {
 
 const std::vector<FormulationInfo>& formulations() {
   static const std::vector<FormulationInfo> list{
-      {"none", "no contact: platens as prescribed velocities, tractions, symmetry planes"},
-      {"direct", "rigid dies as kinematic constraints (ALPID): exact normal velocity, free sliding"},
-      {"penalty", "node-to-segment penalty on the normal relative velocity, between bodies and against dies (the paper)"},
-      {"ipopt", "each step a constrained minimization solved by Ipopt: the Kuhn-Tucker contact conditions to solver tolerance"},
+      {"none", "no contact: platens as prescribed velocities, tractions, symmetry planes", false, false},
+      {"direct", "rigid dies as kinematic constraints (ALPID): exact normal velocity, free sliding", true, false},
+      {"penalty", "node-to-segment penalty on the normal relative velocity, between bodies and against dies (the paper)",
+       true, true},
+      {"ipopt", "each step a constrained minimization solved by Ipopt: the Kuhn-Tucker contact conditions to solver tolerance",
+       true, true},
   };
   return list;
 }

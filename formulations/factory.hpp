@@ -14,6 +14,8 @@ namespace rpfem {
 struct FormulationInfo {
   std::string name;
   std::string help;
+  bool dies = false;    // treats contact with rigid dies
+  bool bodies = false;  // treats contact between deformable bodies
 };
 const std::vector<FormulationInfo>& formulations();
 

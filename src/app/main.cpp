@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "app/run_command.hpp"
+#include "app/suite_command.hpp"
 #include "core/types.hpp"
 #include "core/version.hpp"
 #include "factory.hpp"
@@ -25,6 +26,20 @@ int main(int argc, char** argv) {
                       "run a [[variants]] entry of the case (its overrides, then --set's); 'all': each into OUT/NAME");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress output");
 
+  rpfem::SuiteOptions suite;
+  suite.cases_dir = std::string(RPFEM_SOURCE_DIR) + "/cases";
+  suite.out_dir = "out";
+  auto* suite_cmd = app.add_subcommand("suite", "Run every scene with every formulation that applies, then the report");
+  suite_cmd->add_option("--cases", suite.cases_dir, "folder of case files")->capture_default_str();
+  suite_cmd->add_option("--out,-o", suite.out_dir, "output folder")->capture_default_str();
+  suite_cmd->add_option("--scene", suite.scenes, "run only these scenes (case file names without .toml)");
+  suite_cmd->add_option("--formulation,-f", suite.formulations, "run only these formulations");
+  suite_cmd->add_option("--set,-s", suite.overrides, "override a case value in every run: key.path=value");
+  suite_cmd->add_option("--jobs,-j", suite.jobs, "runs in parallel (default: the machine's cores)");
+  suite_cmd->add_flag("!--no-variants", suite.variants, "skip the scenes' [[variants]]");
+  suite_cmd->add_flag("!--no-report", suite.report, "skip the report");
+  suite_cmd->add_flag("--quiet,-q", suite.quiet, "no progress output");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -32,6 +47,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*run_cmd) return rpfem::run_command(run);
+    if (*suite_cmd) return rpfem::suite_command(suite);
   } catch (const rpfem::InputError& e) {
     std::fprintf(stderr, "rpfem: error: %s\n", e.what());
     return 2;

@@ -1,0 +1,200 @@
+#!/usr/bin/python3
+"""The suite's comparison report (issue 6), from a suite folder written by
+`rpfem suite`: OUT/report.html (self-contained, figures embedded) and its
+Markdown twin OUT/report.md (figures in OUT/report_files/).
+
+Per scene: the press load against stroke for every formulation on one plot
+(kN; paper Fig. 11), and a table of the runs (status, steps, wall time, time
+per step, final load, largest penetration). At the top: how far each
+formulation's load is from the scene's reference formulation (`direct`
+where it ran, else `ipopt`), and how long each took.
+
+Run with Debian's Python: /usr/bin/python3 reports/make_report.py OUT
+"""
+import base64
+import csv
+import html
+import io
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+REFERENCE_ORDER = ["direct", "ipopt", "penalty", "none"]
+
+
+def read_history(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    cols = {}
+    for r in rows:
+        for k, v in r.items():
+            try:
+                cols.setdefault(k, []).append(float(v))
+            except (TypeError, ValueError):
+                pass
+    return cols
+
+
+def press_column(hist, summary):
+    """The load column with the largest final |Fy|: the press load."""
+    best, value = None, -1.0
+    for name in summary.get("final_load_N", {}):
+        col = name + ".Fy"
+        if col in hist and hist[col] and abs(hist[col][-1]) > value:
+            best, value = col, abs(hist[col][-1])
+    return best
+
+
+def load_run(out, run):
+    d = os.path.join(out, run["dir"])
+    r = dict(run)
+    r["summary"], r["history"] = {}, {}
+    if os.path.exists(os.path.join(d, "summary.json")):
+        with open(os.path.join(d, "summary.json")) as f:
+            r["summary"] = json.load(f)
+    if os.path.exists(os.path.join(d, "history.csv")):
+        r["history"] = read_history(os.path.join(d, "history.csv"))
+    r["load_col"] = press_column(r["history"], r["summary"]) if r["history"] else None
+    return r
+
+
+def label(r):
+    return r["formulation"] + (" / " + r["variant"] if r["variant"] else "")
+
+
+def final_load_kN(r):
+    c = r["load_col"]
+    return abs(r["history"][c][-1]) / 1000 if c else float("nan")
+
+
+def interp(x, xs, ys):
+    if not xs:
+        return float("nan")
+    if x <= xs[0]:
+        return ys[0]
+    for i in range(1, len(xs)):
+        if x <= xs[i]:
+            t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]) if xs[i] > xs[i - 1] else 0
+            return ys[i - 1] + t * (ys[i] - ys[i - 1])
+    return ys[-1]
+
+
+def load_difference(r, ref):
+    """Largest relative difference of r's press load from ref's, over r's
+    recorded strokes within ref's range (ref interpolated linearly)."""
+    if not (r["load_col"] and ref["load_col"]):
+        return float("nan")
+    xs, ys = ref["history"]["stroke"], [abs(v) for v in ref["history"][ref["load_col"]]]
+    worst = 0.0
+    for s, f in zip(r["history"]["stroke"], r["history"][r["load_col"]]):
+        if s > xs[-1] + 1e-12:
+            break
+        g = interp(s, xs, ys)
+        if g > 0:
+            worst = max(worst, abs(abs(f) / g - 1))
+    return worst
+
+
+def figure_png(runs, title):
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+    for r in runs:
+        if r["load_col"]:
+            ax.plot(r["history"]["stroke"], [abs(v) / 1000 for v in r["history"][r["load_col"]]],
+                    label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")")
+    ax.set_xlabel("stroke (mm)")
+    ax.set_ylabel("load (kN)")
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def run_row(r):
+    s, h = r["summary"], r["history"]
+    pen = max(h.get("max_penetration_rel", [float("nan")]) or [float("nan")])
+    return [
+        label(r),
+        s.get("status", "missing") + ("" if r["exit_code"] == 0 else " (exit %d)" % r["exit_code"]),
+        str(s.get("steps", "")),
+        "%.1f" % r["wall_time_s"],
+        "%.3f" % s["time_per_step_s"] if "time_per_step_s" in s else "",
+        "%.2f" % final_load_kN(r),
+        "%.1e" % pen if pen == pen else "",
+    ]
+
+
+HEADER = ["run", "status", "steps", "wall time (s)", "time per step (s)", "final load (kN)",
+          "max penetration / element size"]
+
+
+def main(out):
+    with open(os.path.join(out, "suite.json")) as f:
+        runs = [load_run(out, r) for r in json.load(f)["runs"]]
+    scenes = []
+    for r in runs:
+        if r["case"] not in scenes:
+            scenes.append(r["case"])
+    os.makedirs(os.path.join(out, "report_files"), exist_ok=True)
+    summary_rows, sections_html, sections_md = [], [], []
+    for sc in scenes:
+        rs = [r for r in runs if r["case"] == sc]
+        base = [r for r in rs if not r["variant"]]
+        ref = next((r for name in REFERENCE_ORDER for r in base
+                    if r["formulation"] == name and r["exit_code"] == 0 and r["load_col"]), None)
+        for r in base:
+            diff = load_difference(r, ref) if ref and r is not ref else float("nan")
+            summary_rows.append([sc, r["formulation"], ref["formulation"] if ref and r is not ref else "-",
+                                 "%.2e" % diff if diff == diff else "-", "%.1f" % r["wall_time_s"],
+                                 r["summary"].get("status", "missing")])
+        png = figure_png(rs, sc)
+        fname = "report_files/%s_load.png" % sc
+        with open(os.path.join(out, fname), "wb") as f:
+            f.write(png)
+        table = [run_row(r) for r in rs]
+        desc = next((r["summary"].get("parameters", {}).get("run", {}).get("description", "") for r in rs), "")
+        sections_html.append(
+            "<h2>%s</h2><p>%s</p><img alt='load against stroke, %s' src='data:image/png;base64,%s'/>%s"
+            % (html.escape(sc), html.escape(desc), html.escape(sc), base64.b64encode(png).decode(),
+               html_table(HEADER, table)))
+        sections_md.append("## %s\n\n%s\n\n![load against stroke, %s](%s)\n\n%s\n" % (sc, desc, sc, fname,
+                                                                                     md_table(HEADER, table)))
+    sum_header = ["scene", "formulation", "reference", "largest load difference", "wall time (s)", "status"]
+    intro = ("Each scene with every formulation that applies. The load difference is the largest relative "
+             "difference of the press load from the reference formulation's over the recorded strokes.")
+    with open(os.path.join(out, "report.html"), "w") as f:
+        f.write("<!DOCTYPE html><html><head><meta charset='utf-8'><title>rpfem suite report</title>"
+                "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:collapse}"
+                "td,th{border:1px solid #999;padding:2px 6px;text-align:right}</style></head><body>"
+                "<h1>rpfem suite report</h1><p>%s</p>%s%s</body></html>\n"
+                % (html.escape(intro), html_table(sum_header, summary_rows), "".join(sections_html)))
+    with open(os.path.join(out, "report.md"), "w") as f:
+        f.write("# rpfem suite report\n\n%s\n\n%s\n%s" % (intro, md_table(sum_header, summary_rows),
+                                                         "\n".join(sections_md)))
+    print(os.path.abspath(os.path.join(out, "report.html")))
+
+
+def html_table(header, rows):
+    h = "".join("<th>%s</th>" % html.escape(c) for c in header)
+    b = "".join("<tr>%s</tr>" % "".join("<td>%s</td>" % html.escape(c) for c in r) for r in rows)
+    return "<table><tr>%s</tr>%s</table>" % (h, b)
+
+
+def md_table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit("usage: make_report.py SUITE_OUT")
+    main(sys.argv[1])

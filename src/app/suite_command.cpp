@@ -1,0 +1,182 @@
+#include "app/suite_command.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <toml++/toml.h>
+
+#include "app/variants.hpp"
+#include "core/types.hpp"
+#include "factory.hpp"
+#include "io/case_file.hpp"
+#include "io/result_writer.hpp"
+#include "io/scene_reader.hpp"
+
+namespace fs = std::filesystem;
+
+namespace rpfem {
+
+namespace {
+
+struct Job {
+  std::string scene, case_file, formulation, variant, dir;
+  int rc = -1;
+  double seconds = 0;
+};
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// The formulations that treat every contact of the scene.
+std::vector<std::string> applicable(const Scene& scene) {
+  bool dies = false, bodies = false;
+  for (const auto& p : scene.contact_pairs) (p.with_die() ? dies : bodies) = true;
+  if (!dies && !bodies) return {scene.formulation};
+  std::vector<std::string> out;
+  for (const auto& f : formulations())
+    if ((f.dies || !dies) && (f.bodies || !bodies) && (f.dies || f.bodies)) out.push_back(f.name);
+  return out;
+}
+
+// The last row of a run's history.csv: "step N, stroke S mm".
+std::string last_step(const std::string& dir) {
+  std::ifstream in(dir + "/history.csv");
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  const auto c1 = last.find(','), c2 = last.find(',', c1 + 1), c3 = last.find(',', c2 + 1);
+  if (c1 == std::string::npos || c3 == std::string::npos || !std::isdigit(static_cast<unsigned char>(last[0])))
+    return "starting";
+  return "step " + last.substr(0, c1) + ", stroke " + last.substr(c2 + 1, c3 - c2 - 1) + " mm";
+}
+
+std::vector<Job> plan(const SuiteOptions& opt) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(opt.cases_dir))
+    if (e.is_regular_file() && e.path().extension() == ".toml") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  std::string known;
+  for (const auto& p : files) known += (known.empty() ? "" : ", ") + p.stem().string();
+  for (const auto& s : opt.scenes)
+    if (std::none_of(files.begin(), files.end(), [&](const fs::path& p) { return p.stem().string() == s; }))
+      throw InputError(opt.cases_dir + ": no scene '" + s + "'; expected one of: " + known);
+  for (const auto& f : opt.formulations)
+    if (std::none_of(formulations().begin(), formulations().end(), [&](const auto& x) { return x.name == f; }))
+      throw InputError("--formulation: '" + f + "' is unknown");
+  std::vector<Job> jobs;
+  for (const auto& path : files) {
+    const std::string name = path.stem().string();
+    if (!opt.scenes.empty() && std::find(opt.scenes.begin(), opt.scenes.end(), name) == opt.scenes.end()) continue;
+    CaseFile file(path.string(), opt.overrides);
+    const std::vector<Variant> variants = read_variants(file.root());
+    const Scene scene = read_scene(file);
+    for (const std::string& f : applicable(scene)) {
+      if (!opt.formulations.empty() &&
+          std::find(opt.formulations.begin(), opt.formulations.end(), f) == opt.formulations.end())
+        continue;
+      const std::string dir = opt.out_dir + "/" + name + "/" + f;
+      jobs.push_back({name, path.string(), f, "", dir});
+      if (opt.variants && f == scene.formulation)
+        for (const auto& v : variants) jobs.push_back({name, path.string(), f, v.name, dir + "/" + v.name});
+    }
+  }
+  return jobs;
+}
+
+void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs) {
+  toml::array runs;
+  for (const auto& j : jobs)
+    runs.push_back(toml::table{{"case", j.scene}, {"case_file", fs::absolute(j.case_file).string()},
+                               {"formulation", j.formulation}, {"variant", j.variant},
+                               {"dir", fs::relative(j.dir, opt.out_dir).string()}, {"exit_code", j.rc},
+                               {"wall_time_s", j.seconds}});
+  std::ostringstream os;
+  os << toml::json_formatter{toml::table{{"runs", runs}}} << "\n";
+  write_text_atomically(opt.out_dir + "/suite.json", os.str());
+}
+
+}  // namespace
+
+int suite_command(const SuiteOptions& opt) {
+  if (!fs::is_directory(opt.cases_dir)) throw InputError(opt.cases_dir + ": no such cases folder");
+  fs::create_directories(opt.out_dir);
+  std::vector<Job> jobs = plan(opt);
+  if (jobs.empty()) throw InputError(opt.cases_dir + ": no scene and formulation matched");
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const int workers = std::max(1, opt.jobs > 0 ? opt.jobs : static_cast<int>(std::thread::hardware_concurrency()));
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  std::mutex print;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  std::vector<char> running(jobs.size(), 0);
+  auto work = [&] {
+    for (std::size_t i; (i = next++) < jobs.size();) {
+      Job& j = jobs[i];
+      fs::create_directories(j.dir);
+      std::string cmd = shell_quote(self) + " run " + shell_quote(j.case_file) + " --out " + shell_quote(j.dir) + " --formulation " +
+                        j.formulation + " --quiet";
+      if (!j.variant.empty()) cmd += " --variant " + shell_quote(j.variant);
+      for (const auto& o : opt.overrides) cmd += " --set " + shell_quote(o);
+      cmd += " > " + shell_quote(j.dir + "/run.log") + " 2>&1";
+      const auto s0 = std::chrono::steady_clock::now();
+      running[i] = 1;
+      const int status = std::system(cmd.c_str());
+      running[i] = 0;
+      j.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+      j.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      const int k = ++done;
+      if (!opt.quiet) {
+        std::lock_guard<std::mutex> lock(print);
+        std::printf("[%d/%zu] %s %s%s%s: %s in %.1f s (%.0f s elapsed)\n", k, jobs.size(), j.scene.c_str(),
+                    j.formulation.c_str(), j.variant.empty() ? "" : " ", j.variant.c_str(),
+                    j.rc == 0 ? "finished" : ("stopped, exit " + std::to_string(j.rc)).c_str(), j.seconds, elapsed());
+        std::fflush(stdout);
+      }
+    }
+  };
+  if (!opt.quiet) std::printf("rpfem suite: %zu runs on %d workers, results in %s\n", jobs.size(), workers, opt.out_dir.c_str());
+  std::vector<std::thread> pool;
+  for (int w = 0; w < workers; ++w) pool.emplace_back(work);
+  // Progress of the runs in flight every 10 s (from their history.csv).
+  while (done < static_cast<int>(jobs.size())) {
+    for (int t = 0; t < 100 && done < static_cast<int>(jobs.size()); ++t)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (opt.quiet || done >= static_cast<int>(jobs.size())) continue;
+    std::lock_guard<std::mutex> lock(print);
+    for (std::size_t i = 0; i < jobs.size(); ++i)
+      if (running[i])
+        std::printf("  running %s %s%s%s: %s\n", jobs[i].scene.c_str(), jobs[i].formulation.c_str(),
+                    jobs[i].variant.empty() ? "" : " ", jobs[i].variant.c_str(), last_step(jobs[i].dir).c_str());
+    std::fflush(stdout);
+  }
+  for (auto& t : pool) t.join();
+  write_manifest(opt, jobs);
+  int rc = 0;
+  for (const auto& j : jobs)
+    if (j.rc != 0) rc = 3;
+  if (opt.report) {
+    const std::string script = std::string(RPFEM_SOURCE_DIR) + "/reports/make_report.py";
+    const std::string cmd = "/usr/bin/python3 " + shell_quote(script) + " " + shell_quote(opt.out_dir) +
+                            " > /dev/null";
+    if (std::system(cmd.c_str()) != 0) {
+      std::fprintf(stderr, "rpfem suite: the report failed (%s)\n", cmd.c_str());
+      return 3;
+    }
+    if (!opt.quiet) std::printf("report: %s\n", fs::absolute(opt.out_dir + "/report.html").string().c_str());
+  }
+  return rc;
+}
+
+}  // namespace rpfem

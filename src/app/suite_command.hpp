@@ -1,0 +1,33 @@
+// `rpfem suite`: every scene of a cases folder with every formulation that
+// treats its contacts (a scene with rigid dies only: each formulation that
+// treats dies; with contact between bodies: each that treats bodies; with
+// no contact: its own), the scene's [[variants]] with its own formulation,
+// independent runs in parallel; then the comparison report.
+//   OUT/<case>/<formulation>/           base runs
+//   OUT/<case>/<formulation>/<variant>/ variants (the scene's formulation)
+//   OUT/suite.json                      the runs: case, formulation, variant,
+//                                       folder, exit code, wall time
+//   OUT/report.html, OUT/report.md      reports/make_report.py
+#pragma once
+#include <string>
+#include <vector>
+
+namespace rpfem {
+
+struct SuiteOptions {
+  std::string cases_dir;
+  std::string out_dir;
+  std::vector<std::string> scenes;        // empty: all
+  std::vector<std::string> formulations;  // empty: all that apply
+  std::vector<std::string> overrides;     // --set, passed to every run
+  int jobs = 0;                           // 0: the machine's cores
+  bool variants = true;
+  bool report = true;
+  bool quiet = false;
+};
+
+// Exit code: 0 all runs finished and the report was built, 3 a run stopped
+// early or the report failed (the rest still ran), 2 bad input.
+int suite_command(const SuiteOptions& opt);
+
+}  // namespace rpfem

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Issue 6: `rpfem suite` end to end on one coarse scene: every formulation
+# that treats rigid dies runs (direct, penalty, ipopt), suite.json lists
+# them, and the report is built (HTML with the figure embedded, Markdown
+# twin with its figure file). A broken report path breaks CI here.
+set -u
+rpfem=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$tmp/cases"
+cp "$src/cases/upsetting_dies_frictionless_axisym.toml" "$tmp/cases/"
+out=$("$rpfem" suite --cases "$tmp/cases" --out "$tmp/o" --jobs 2 --set stepping.end_stroke=0.2 \
+  --set bodies.billet.mesh.nx=6 --set bodies.billet.mesh.ny=6 2>&1); rc=$?
+echo "$out" | tail -5
+[ "$rc" -eq 0 ] || { echo "FAIL: exit code $rc"; exit 1; }
+for f in direct penalty ipopt; do
+  grep -q "\"formulation\" : \"$f\"" "$tmp/o/suite.json" || { echo "FAIL: no $f run in suite.json"; exit 1; }
+  [ -s "$tmp/o/upsetting_dies_frictionless_axisym/$f/history.csv" ] || { echo "FAIL: no $f history"; exit 1; }
+done
+[ "$(grep -c '"exit_code" : 0' "$tmp/o/suite.json")" -eq 3 ] || { echo "FAIL: a run did not finish"; exit 1; }
+echo "$out" | grep -q "report: .*report.html" || { echo "FAIL: report path not printed"; exit 1; }
+grep -q "<img alt='load against stroke, upsetting_dies_frictionless_axisym' src='data:image/png;base64," \
+  "$tmp/o/report.html" || { echo "FAIL: figure not embedded"; exit 1; }
+grep -q "| upsetting_dies_frictionless_axisym | penalty | direct |" "$tmp/o/report.md" \
+  || { echo "FAIL: no penalty-vs-direct row"; exit 1; }
+[ -s "$tmp/o/report_files/upsetting_dies_frictionless_axisym_load.png" ] || { echo "FAIL: no figure file"; exit 1; }
+# A scene that does not exist is bad input (exit 2), naming it.
+"$rpfem" suite --cases "$tmp/cases" --out "$tmp/o2" --scene nosuch > "$tmp/err" 2>&1; rc=$?
+[ "$rc" -eq 2 ] || { echo "FAIL: unknown scene gave exit $rc"; cat "$tmp/err"; exit 1; }
+echo "ok: suite ran 3 formulations and built the report"
