@@ -4,8 +4,10 @@
 Markdown twin OUT/report.md (figures in OUT/report_files/).
 
 Per scene: the press load against stroke for every formulation on one plot
-(kN; paper Fig. 11), and a table of the runs (status, steps, wall time, time
-per step, final load, largest penetration). At the top: how far each
+(kN; paper Fig. 11), the deformed meshes at the last recorded step coloured
+by effective strain rate, formulations side by side (paper Fig. 6, 9), the
+penetration and iterations per step, and a table of the runs (status,
+steps, wall time, time per step, final load, largest penetration). At the top: how far each
 formulation's load is from the scene's reference formulation (`direct`
 where it ran, else `ipopt`), and how long each took.
 
@@ -19,10 +21,13 @@ import json
 import os
 import sys
 
+import h5py
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
 
 REFERENCE_ORDER = ["direct", "ipopt", "penalty", "none"]
 
@@ -108,6 +113,77 @@ def load_differences(r, ref):
     return d[-1], d[len(d) // 2], max(late) if late else nan
 
 
+def png_bytes(fig):
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def mesh_png(out, runs, title):
+    """Deformed meshes at each run's last recorded step, coloured by the
+    effective strain rate (1/s), one panel per base run, one colour scale."""
+    panels = []
+    for r in runs:
+        path = os.path.join(out, r["dir"], "result.h5")
+        if r["variant"] or not os.path.exists(path):
+            continue
+        with h5py.File(path, "r") as f:
+            steps = sorted(k for k in f["steps"] if k.isdigit())
+            if not steps:
+                continue
+            g = f["steps"][steps[-1]]
+            panels.append((r["formulation"], int(steps[-1]), g["coordinates"][:], f["mesh/connectivity"][:],
+                           g["strain_rate"][:]))
+    if not panels:
+        return None
+    vmax = max(float(np.max(p[4])) for p in panels) or 1.0
+    fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels) + 1.2, 4.0), dpi=110, squeeze=False)
+    for ax, (name, step, x, conn, rate) in zip(axes[0], panels):
+        pc = PolyCollection(x[conn.astype(int)], array=rate, cmap="viridis", edgecolors="k", linewidths=0.1)
+        pc.set_clim(0, vmax)
+        ax.add_collection(pc)
+        ax.autoscale_view()
+        ax.set_aspect("equal")
+        ax.set_title("%s, step %d" % (name, step), fontsize=9)
+        ax.set_xlabel("x or r (mm)")
+        ax.set_ylabel("y (mm)")
+    fig.colorbar(pc, ax=list(axes[0]), label="effective strain rate (1/s)")
+    fig.suptitle(title, fontsize=10)
+    return png_bytes(fig)
+
+
+def steps_png(runs, title):
+    """Penetration per element size (contact formulations that report it)
+    and iterations per step against stroke."""
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 3.6), dpi=110)
+    any_pen = False
+    for r in runs:
+        h = r["history"]
+        if not h or r["variant"]:
+            continue
+        if "max_penetration_rel" in h:
+            vals = [max(v, 1e-16) for v in h["max_penetration_rel"]]
+            a1.semilogy(h["stroke"], vals, label=r["formulation"])
+            any_pen = True
+        if "newton_iterations" in h:
+            a2.plot(h["stroke"], h["newton_iterations"], label=r["formulation"])
+    a1.set_xlabel("stroke (mm)")
+    a1.set_ylabel("max penetration / element size")
+    a1.set_title("penetration (floor 1e-16 shown for zero)", fontsize=9)
+    a2.set_xlabel("stroke (mm)")
+    a2.set_ylabel("iterations per step (Newton or Ipopt)")
+    for a in (a1, a2):
+        a.grid(True, alpha=0.3)
+        if a.lines:
+            a.legend(fontsize=8)
+    if not any_pen:
+        a1.text(0.5, 0.5, "no contact penetration reported", ha="center", transform=a1.transAxes)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return png_bytes(fig)
+
+
 def figure_png(runs, title):
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
     for r in runs:
@@ -120,10 +196,7 @@ def figure_png(runs, title):
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    return buf.getvalue()
+    return png_bytes(fig)
 
 
 def run_row(r):
@@ -163,18 +236,24 @@ def main(out):
             summary_rows.append([sc, r["formulation"], ref["formulation"] if ref and r is not ref else "-"]
                                 + ["%.2e" % x if x == x else "-" for x in diffs]
                                 + ["%.1f" % r["wall_time_s"], r["summary"].get("status", "missing")])
-        png = figure_png(rs, sc)
-        fname = "report_files/%s_load.png" % sc
-        with open(os.path.join(out, fname), "wb") as f:
-            f.write(png)
+        figures = [("load against stroke", "load", figure_png(rs, sc)),
+                   ("deformed meshes coloured by effective strain rate", "mesh", mesh_png(out, rs, sc)),
+                   ("penetration and iterations per step", "steps", steps_png(rs, sc))]
+        imgs_html, imgs_md = "", ""
+        for alt, tag, png in figures:
+            if png is None:
+                continue
+            fname = "report_files/%s_%s.png" % (sc, tag)
+            with open(os.path.join(out, fname), "wb") as f:
+                f.write(png)
+            imgs_html += "<img alt='%s, %s' src='data:image/png;base64,%s'/>" % (
+                html.escape(alt), html.escape(sc), base64.b64encode(png).decode())
+            imgs_md += "![%s, %s](%s)\n\n" % (alt, sc, fname)
         table = [run_row(r) for r in rs]
         desc = next((r["summary"].get("parameters", {}).get("run", {}).get("description", "") for r in rs), "")
-        sections_html.append(
-            "<h2>%s</h2><p>%s</p><img alt='load against stroke, %s' src='data:image/png;base64,%s'/>%s"
-            % (html.escape(sc), html.escape(desc), html.escape(sc), base64.b64encode(png).decode(),
-               html_table(HEADER, table)))
-        sections_md.append("## %s\n\n%s\n\n![load against stroke, %s](%s)\n\n%s\n" % (sc, desc, sc, fname,
-                                                                                     md_table(HEADER, table)))
+        sections_html.append("<h2>%s</h2><p>%s</p>%s%s" % (html.escape(sc), html.escape(desc), imgs_html,
+                                                           html_table(HEADER, table)))
+        sections_md.append("## %s\n\n%s\n\n%s%s\n" % (sc, desc, imgs_md, md_table(HEADER, table)))
     sum_header = ["scene", "formulation", "reference", "load difference: largest", "median",
                   "largest past 1/4 stroke", "wall time (s)", "status"]
     intro = ("Each scene with every formulation that applies. Load differences are relative differences of the "

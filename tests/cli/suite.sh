@@ -22,7 +22,11 @@ grep -q "<img alt='load against stroke, upsetting_dies_frictionless_axisym' src=
   "$tmp/o/report.html" || { echo "FAIL: figure not embedded"; exit 1; }
 grep -q "| upsetting_dies_frictionless_axisym | penalty | direct |" "$tmp/o/report.md" \
   || { echo "FAIL: no penalty-vs-direct row"; exit 1; }
-[ -s "$tmp/o/report_files/upsetting_dies_frictionless_axisym_load.png" ] || { echo "FAIL: no figure file"; exit 1; }
+for fig in load mesh steps; do
+  [ -s "$tmp/o/report_files/upsetting_dies_frictionless_axisym_$fig.png" ] || { echo "FAIL: no $fig figure"; exit 1; }
+done
+grep -q "<img alt='deformed meshes coloured by effective strain rate, upsetting_dies_frictionless_axisym'" \
+  "$tmp/o/report.html" || { echo "FAIL: mesh figure not embedded"; exit 1; }
 # A scene that does not exist is bad input (exit 2), naming it.
 "$rpfem" suite --cases "$tmp/cases" --out "$tmp/o2" --scene nosuch > "$tmp/err" 2>&1; rc=$?
 [ "$rc" -eq 2 ] || { echo "FAIL: unknown scene gave exit $rc"; cat "$tmp/err"; exit 1; }
