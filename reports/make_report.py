@@ -260,15 +260,31 @@ def main(out):
              "press load from the reference formulation's (direct where it ran, else ipopt) at the recorded "
              "strokes: the largest, the median, and the largest past the first quarter of the stroke (early on, "
              "nodes land one ring at a time at slightly different strokes in different formulations).")
+    # The verification checks (rpfem verify), if the suite ran them.
+    ver_header = ["scene", "formulation", "metric", "value", "tolerance", "result", "issue"]
+    ver_rows, ver_failed = [], 0
+    vpath = os.path.join(out, "verification.json")
+    if os.path.exists(vpath):
+        with open(vpath) as f:
+            ver = json.load(f)
+        for c in ver["checks"]:
+            ver_rows.append([c["scene"], c["formulation"] + (" / " + c["variant"] if c.get("variant") else ""),
+                             c["metric"], "%.3e" % c["value"] if "value" in c else "-", "%.1e" % c["tolerance"],
+                             "pass" if c["pass"] else "FAIL" + (": " + c["note"] if c.get("note") else ""),
+                             c.get("issue", "")])
+        ver_failed = ver["failed"]
+    ver_title = "Verification checks: %d, %d failed" % (len(ver_rows), ver_failed)
+    ver_html = "<h2>%s</h2>%s" % (ver_title, html_table(ver_header, ver_rows)) if ver_rows else ""
+    ver_md = "## %s\n\n%s\n" % (ver_title, md_table(ver_header, ver_rows)) if ver_rows else ""
     with open(os.path.join(out, "report.html"), "w") as f:
         f.write("<!DOCTYPE html><html><head><meta charset='utf-8'><title>rpfem suite report</title>"
                 "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:collapse}"
                 "td,th{border:1px solid #999;padding:2px 6px;text-align:right}</style></head><body>"
-                "<h1>rpfem suite report</h1><p>%s</p>%s%s</body></html>\n"
-                % (html.escape(intro), html_table(sum_header, summary_rows), "".join(sections_html)))
+                "<h1>rpfem suite report</h1><p>%s</p>%s%s%s</body></html>\n"
+                % (html.escape(intro), html_table(sum_header, summary_rows), ver_html, "".join(sections_html)))
     with open(os.path.join(out, "report.md"), "w") as f:
-        f.write("# rpfem suite report\n\n%s\n\n%s\n%s" % (intro, md_table(sum_header, summary_rows),
-                                                         "\n".join(sections_md)))
+        f.write("# rpfem suite report\n\n%s\n\n%s\n%s\n%s" % (intro, md_table(sum_header, summary_rows), ver_md,
+                                                             "\n".join(sections_md)))
     print(os.path.abspath(os.path.join(out, "report.html")))
 
 

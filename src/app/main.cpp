@@ -5,6 +5,7 @@
 
 #include "app/run_command.hpp"
 #include "app/suite_command.hpp"
+#include "app/verify_command.hpp"
 #include "core/types.hpp"
 #include "core/version.hpp"
 #include "factory.hpp"
@@ -36,9 +37,18 @@ int main(int argc, char** argv) {
   suite_cmd->add_option("--formulation,-f", suite.formulations, "run only these formulations");
   suite_cmd->add_option("--set,-s", suite.overrides, "override a case value in every run: key.path=value");
   suite_cmd->add_option("--jobs,-j", suite.jobs, "runs in parallel (default: the machine's cores)");
+  suite.checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
+  suite_cmd->add_option("--checks", suite.checks_file, "verification checks (TOML; empty: none)")->capture_default_str();
   suite_cmd->add_flag("!--no-variants", suite.variants, "skip the scenes' [[variants]]");
   suite_cmd->add_flag("!--no-report", suite.report, "skip the report");
   suite_cmd->add_flag("--quiet,-q", suite.quiet, "no progress output");
+
+  std::string verify_dir, checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
+  bool verify_quiet = false;
+  auto* verify_cmd = app.add_subcommand("verify", "Evaluate the acceptance checks on a suite folder");
+  verify_cmd->add_option("dir", verify_dir, "suite output folder")->required();
+  verify_cmd->add_option("--checks", checks_file, "checks file (TOML)")->capture_default_str();
+  verify_cmd->add_flag("--quiet,-q", verify_quiet, "no table");
 
   try {
     app.parse(argc, argv);
@@ -48,6 +58,7 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) return rpfem::run_command(run);
     if (*suite_cmd) return rpfem::suite_command(suite);
+    if (*verify_cmd) return rpfem::verify_command(verify_dir, checks_file, verify_quiet);
   } catch (const rpfem::InputError& e) {
     std::fprintf(stderr, "rpfem: error: %s\n", e.what());
     return 2;

@@ -14,6 +14,7 @@
 #include <toml++/toml.h>
 
 #include "app/variants.hpp"
+#include "app/verify_command.hpp"
 #include "core/types.hpp"
 #include "factory.hpp"
 #include "io/case_file.hpp"
@@ -163,6 +164,13 @@ int suite_command(const SuiteOptions& opt) {
   }
   for (auto& t : pool) t.join();
   write_manifest(opt, jobs);
+  if (!opt.checks_file.empty()) {
+    std::vector<std::string> scenes;
+    for (const auto& j : jobs) scenes.push_back(j.scene);
+    const int v = verify_command(opt.out_dir, opt.checks_file, true, scenes);
+    if (!opt.quiet) std::printf("verification: %s (%s/verification.json)\n", v == 0 ? "every check passed" : "checks failed",
+                                opt.out_dir.c_str());
+  }
   int rc = 0;
   for (const auto& j : jobs)
     if (j.rc != 0) rc = 3;

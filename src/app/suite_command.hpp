@@ -7,6 +7,9 @@
 //   OUT/<case>/<formulation>/<variant>/ variants (the scene's formulation)
 //   OUT/suite.json                      the runs: case, formulation, variant,
 //                                       folder, exit code, wall time
+//   OUT/verification.json               the checks of the scenes that ran
+//                                       (`rpfem verify`; a failed check is
+//                                       reported, it does not stop the suite)
 //   OUT/report.html, OUT/report.md      reports/make_report.py
 #pragma once
 #include <string>
@@ -21,6 +24,7 @@ struct SuiteOptions {
   std::vector<std::string> formulations;  // empty: all that apply
   std::vector<std::string> overrides;     // --set, passed to every run
   int jobs = 0;                           // 0: the machine's cores
+  std::string checks_file;  // verification checks (empty: none)
   bool variants = true;
   bool report = true;
   bool quiet = false;

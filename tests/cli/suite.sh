@@ -27,6 +27,36 @@ for fig in load mesh steps; do
 done
 grep -q "<img alt='deformed meshes coloured by effective strain rate, upsetting_dies_frictionless_axisym'" \
   "$tmp/o/report.html" || { echo "FAIL: mesh figure not embedded"; exit 1; }
+# The suite ran the shipped checks of this scene: they pass, and the report
+# carries the table.
+grep -q '"failed" : 0' "$tmp/o/verification.json" || { echo "FAIL: suite verification"; cat "$tmp/o/verification.json"; exit 1; }
+grep -q "Verification checks: [1-9][0-9]*, 0 failed" "$tmp/o/report.md" || { echo "FAIL: no verification table"; exit 1; }
+# rpfem verify with its own checks passes, then fails (exit 4) once a
+# result is perturbed: the penalty run's load 1 % higher at one step.
+cat > "$tmp/checks.toml" <<'CHECKS'
+[[check]]
+scene = "upsetting_dies_frictionless_axisym"
+formulation = "penalty"
+metric = "load_difference"
+reference = "direct"
+load = "top_die.Fy"
+tolerance = 1e-4
+[[check]]
+scene = "upsetting_dies_frictionless_axisym"
+formulation = "ipopt"
+metric = "history_max"
+column = "kkt_stationarity"
+tolerance = 1e-8
+CHECKS
+"$rpfem" verify "$tmp/o" --checks "$tmp/checks.toml" > "$tmp/v1" 2>&1; rc=$?
+[ "$rc" -eq 0 ] || { echo "FAIL: verify exit $rc"; cat "$tmp/v1"; exit 1; }
+h="$tmp/o/upsetting_dies_frictionless_axisym/penalty/history.csv"
+col=$(head -1 "$h" | tr ',' '\n' | grep -n '^top_die.Fy$' | cut -d: -f1)
+awk -F, -v OFS=, -v c="$col" 'NR == 3 { $c = $c * 1.01 } { print }' "$h" > "$h.new" && mv "$h.new" "$h"
+"$rpfem" verify "$tmp/o" --checks "$tmp/checks.toml" > "$tmp/v2" 2>&1; rc=$?
+[ "$rc" -eq 4 ] || { echo "FAIL: perturbed result passed verify (exit $rc)"; cat "$tmp/v2"; exit 1; }
+grep -q "FAIL" "$tmp/v2" && grep -q '"failed" : 1' "$tmp/o/verification.json" \
+  || { echo "FAIL: the failed check is not reported"; exit 1; }
 # A scene that does not exist is bad input (exit 2), naming it.
 "$rpfem" suite --cases "$tmp/cases" --out "$tmp/o2" --scene nosuch > "$tmp/err" 2>&1; rc=$?
 [ "$rc" -eq 2 ] || { echo "FAIL: unknown scene gave exit $rc"; cat "$tmp/err"; exit 1; }

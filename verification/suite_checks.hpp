@@ -1,0 +1,36 @@
+// Acceptance checks of the formulation issues as data (verification/
+// checks.toml), evaluated on a suite folder written by `rpfem suite`
+// (runs in DIR/<scene>/<formulation>[/<variant>]/):
+//   metric = "load_difference": the largest relative difference of the
+//            run's |load| from the `reference` formulation's run of
+//            `reference_scene` (default: the same scene), column
+//            `reference_load` (default: `load`)
+//            (verification/curve_comparison.hpp; from `from` mm of stroke,
+//            within `stroke_tolerance` mm), at most `tolerance`;
+//   metric = "history_max": the largest value of a history.csv column over
+//            the run's steps, at most `tolerance`;
+//   metric = "finished": the run finished (summary.json status).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace rpfem {
+
+struct SuiteCheck {
+  std::string scene, formulation, variant, metric, reference, reference_scene, reference_load, column, issue;
+  double tolerance = 0, from = 0, stroke_tolerance = 0;
+};
+
+struct CheckResult {
+  SuiteCheck check;
+  double value = 0;
+  bool pass = false;
+  std::string note;  // why it could not be evaluated, if so
+};
+
+// Reads [[check]] tables; InputError naming the file and key on bad input.
+std::vector<SuiteCheck> read_suite_checks(const std::string& path);
+// Evaluates every check on the suite folder; a missing run fails its check.
+std::vector<CheckResult> evaluate_suite_checks(const std::string& suite_dir, const std::vector<SuiteCheck>& checks);
+
+}  // namespace rpfem
