@@ -6,8 +6,10 @@ Markdown twin OUT/report.md (figures in OUT/report_files/).
 Per scene: the press load against stroke for every formulation on one plot
 (kN; paper Fig. 11), the deformed meshes at the last recorded step coloured
 by effective strain rate, formulations side by side (paper Fig. 6, 9), the
-penetration and iterations per step, and a table of the runs (status,
-steps, wall time, time per step, final load, largest penetration). At the top: how far each
+penetration and iterations per step, for rings the calibration curves
+(inner-diameter change against height reduction, one per friction value),
+and a table of the runs (status, steps, wall time, time per step, final
+load, largest penetration). At the top: how far each
 formulation's load is from the scene's reference formulation (`direct`
 where it ran, else `ipopt`), and how long each took.
 
@@ -184,6 +186,41 @@ def steps_png(runs, title):
     return png_bytes(fig)
 
 
+def initial_height(out, r):
+    """Height of the modelled part at the start (mm), from result.h5."""
+    path = os.path.join(out, r["dir"], "result.h5")
+    if not os.path.exists(path):
+        return None
+    with h5py.File(path, "r") as f:
+        y = f["mesh/initial_coordinates"][:, 1]
+    return float(y.max() - y.min())
+
+
+def calibration_png(out, runs, title):
+    """Ring calibration curves: inner-diameter change (%) against height
+    reduction (%), one curve per run (formulation and friction variant),
+    from the `inner_diameter_mid` monitor; None when the scene has none."""
+    curves = [r for r in runs if "inner_diameter_mid" in r["history"]]
+    if not curves:
+        return None
+    fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=110)
+    colours = plt.get_cmap("tab20")
+    for i, r in enumerate(curves):
+        H0 = initial_height(out, r)
+        if not H0:
+            continue
+        ax.plot([100 * s / H0 for s in r["history"]["stroke"]], r["history"]["inner_diameter_mid"], label=label(r),
+                color=colours(i % 20), linestyle="-" if r["variant"] else "--")
+    ax.axhline(0, color="k", linewidth=0.5)
+    ax.set_xlabel("height reduction (%)")
+    ax.set_ylabel("inner diameter change at mid-height (%)")
+    ax.set_title(title + ": calibration curves")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    return png_bytes(fig)
+
+
 def figure_png(runs, title):
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
     for r in runs:
@@ -238,7 +275,8 @@ def main(out):
                                 + ["%.1f" % r["wall_time_s"], r["summary"].get("status", "missing")])
         figures = [("load against stroke", "load", figure_png(rs, sc)),
                    ("deformed meshes coloured by effective strain rate", "mesh", mesh_png(out, rs, sc)),
-                   ("penetration and iterations per step", "steps", steps_png(rs, sc))]
+                   ("penetration and iterations per step", "steps", steps_png(rs, sc)),
+                   ("ring calibration curves", "calibration", calibration_png(out, rs, sc))]
         imgs_html, imgs_md = "", ""
         for alt, tag, png in figures:
             if png is None:
