@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   suite_cmd->add_option("--checks", suite.checks_file, "verification checks (TOML; empty: none)")->capture_default_str();
   suite_cmd->add_flag("!--no-variants", suite.variants, "skip the scenes' [[variants]]");
   suite_cmd->add_flag("!--no-report", suite.report, "skip the report");
+  suite_cmd->add_flag("--quick", suite.quick, "coarse meshes: half the divisions of every mesh (run.mesh_factor = 0.5)");
   suite_cmd->add_flag("--quiet,-q", suite.quiet, "no progress output");
 
   std::string verify_dir, checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";

@@ -109,7 +109,9 @@ void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs) {
 
 }  // namespace
 
-int suite_command(const SuiteOptions& opt) {
+int suite_command(const SuiteOptions& options) {
+  SuiteOptions opt = options;
+  if (opt.quick) opt.overrides.insert(opt.overrides.begin(), "run.mesh_factor=0.5");
   if (!fs::is_directory(opt.cases_dir)) throw InputError(opt.cases_dir + ": no such cases folder");
   fs::create_directories(opt.out_dir);
   std::vector<Job> jobs = plan(opt);

@@ -25,6 +25,7 @@ struct SuiteOptions {
   std::vector<std::string> overrides;     // --set, passed to every run
   int jobs = 0;                           // 0: the machine's cores
   std::string checks_file;  // verification checks (empty: none)
+  bool quick = false;  // run.mesh_factor = 0.5 in every run
   bool variants = true;
   bool report = true;
   bool quiet = false;

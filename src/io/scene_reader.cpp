@@ -33,7 +33,13 @@ FlowStressLaw read_material(CaseSection m, std::string& name) {
   return law;
 }
 
-Mesh read_mesh(CaseSection s, const std::string& body) {
+// A division count times the run's mesh factor, rounded, at least `lo`.
+int divisions(CaseSection& s, const std::string& key, std::optional<int> def, int lo, double factor) {
+  const int n = s.integer(key, def, lo, 100000);
+  return std::max(lo, static_cast<int>(std::lround(n * factor)));
+}
+
+Mesh read_mesh(CaseSection s, const std::string& body, double factor) {
   const std::string shape = s.text("shape", std::nullopt, {"rectangle", "quadrilateral", "ring", "disk"});
   Mesh mesh;
   if (shape == "rectangle") {
@@ -42,15 +48,15 @@ Mesh read_mesh(CaseSection s, const std::string& body) {
     r.y0 = s.real("y0", 0.0, Range::any(), "mm");
     r.width = s.real("width", std::nullopt, Range::positive(), "mm");
     r.height = s.real("height", std::nullopt, Range::positive(), "mm");
-    r.nx = s.integer("nx", std::nullopt, 1, 100000);
-    r.ny = s.integer("ny", std::nullopt, 1, 100000);
+    r.nx = divisions(s, "nx", std::nullopt, 1, factor);
+    r.ny = divisions(s, "ny", std::nullopt, 1, factor);
     mesh = make_rectangle(body, r);
   } else if (shape == "quadrilateral") {
     QuadrilateralSpec q;
     const std::vector<double> c = s.real_array("corners", 8, "x, y of the 4 corners (mm), counter-clockwise");
     for (int i = 0; i < 4; ++i) q.corners[i] = Vec2(c[2 * i], c[2 * i + 1]);
-    q.nx = s.integer("nx", std::nullopt, 1, 100000);
-    q.ny = s.integer("ny", std::nullopt, 1, 100000);
+    q.nx = divisions(s, "nx", std::nullopt, 1, factor);
+    q.ny = divisions(s, "ny", std::nullopt, 1, factor);
     mesh = make_quadrilateral(body, q);
   } else if (shape == "ring") {
     RingSpec r;
@@ -58,8 +64,8 @@ Mesh read_mesh(CaseSection s, const std::string& body) {
     r.outer_radius = s.real("outer_radius", std::nullopt, {r.inner_radius, INFINITY, true, false}, "mm");
     r.y0 = s.real("y0", 0.0, Range::any(), "mm");
     r.height = s.real("height", std::nullopt, Range::positive(), "mm");
-    r.nr = s.integer("nr", std::nullopt, 1, 100000);
-    r.ny = s.integer("ny", std::nullopt, 1, 100000);
+    r.nr = divisions(s, "nr", std::nullopt, 1, factor);
+    r.ny = divisions(s, "ny", std::nullopt, 1, factor);
     mesh = make_ring(body, r);
   } else {
     DiskSpec d;
@@ -67,8 +73,8 @@ Mesh read_mesh(CaseSection s, const std::string& body) {
     d.center_y = s.real("center_y", 0.0, Range::any(), "mm");
     const std::string part = s.text("part", "half", {"half", "upper_quarter", "lower_quarter"});
     d.part = part == "half" ? DiskPart::Half : part == "upper_quarter" ? DiskPart::UpperQuarter : DiskPart::LowerQuarter;
-    d.n = s.integer("n", 8, 1, 10000);
-    d.layers = s.integer("layers", 8, 1, 10000);
+    d.n = divisions(s, "n", 8, 1, factor);
+    d.layers = divisions(s, "layers", 8, 1, factor);
     mesh = make_disk(body, d);
   }
   return mesh;
@@ -123,6 +129,8 @@ Scene read_scene(CaseFile& file) {
   const std::string geom = run.text("geometry", std::nullopt, {"axisymmetric", "plane_strain"});
   sc.geometry = geom == "axisymmetric" ? Geometry::Axisymmetric : Geometry::PlaneStrain;
   sc.formulation = run.text("formulation", "none");
+  // Scales every body's division counts (the suite's --quick: 0.5).
+  const double mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
 
   CaseSection bodies = root.required_table("bodies");
   if (bodies.keys().empty()) bodies.fail("", "at least one body is required");
@@ -133,7 +141,7 @@ Scene read_scene(CaseFile& file) {
     CaseSection mat = b.required_table("material");
     spec.law = read_material(mat, spec.material_name);
     spec.alpha_relative = mat.optional_real("alpha", Range::positive(), "relative, replaces solver.alpha for this body");
-    Mesh m = read_mesh(b.required_table("mesh"), name);
+    Mesh m = read_mesh(b.required_table("mesh"), name, mesh_factor);
     const MeshQuality q = mesh_quality(m);
     if (!(q.min_scaled_jacobian > 0))
       b.fail("mesh", "the generated mesh has an inverted or degenerate element (min scaled Jacobian " +

@@ -82,6 +82,17 @@ TEST(SceneReader, ShippedUpsettingCase) {
   EXPECT_NE(f.used_json().find("\"alpha\""), std::string::npos);  // solver defaults recorded
 }
 
+TEST(SceneReader, MeshFactorScalesEveryBodysDivisions) {
+  // The Test II scene: billet 20 x 20, punch 20 x 4 divisions; at 0.5 they
+  // halve (400 + 80 elements -> 100 + 20), and the factor is recorded.
+  CaseFile f(std::string(RPFEM_SOURCE_DIR) + "/cases/paper_test2_virtual_rigid.toml", {"run.mesh_factor=0.5"});
+  const Scene s = read_scene(f);
+  EXPECT_EQ(s.mesh.num_elements(), 120);
+  EXPECT_DOUBLE_EQ(f.used().at_path("run.mesh_factor").value_or(0.0), 0.5);
+  CaseFile g(std::string(RPFEM_SOURCE_DIR) + "/cases/paper_test2_virtual_rigid.toml", {"run.mesh_factor=0"});
+  EXPECT_THROW(read_scene(g), InputError);
+}
+
 TEST(SceneReader, RejectsBodiesAcrossTheAxis) {
   const std::string p = write("cf7.toml", R"([run]
 geometry = "axisymmetric"
