@@ -56,7 +56,8 @@ bool finished(const std::string& dir) {
   return q1 != std::string::npos && q2 != std::string::npos && s.substr(q1 + 1, q2 - q1 - 1) == "finished";
 }
 
-double absolute_max(const std::vector<double>& v) {
+// The largest value (a non-finite one counts as infinite: it fails any check).
+double largest(const std::vector<double>& v) {
   double m = 0;
   for (double x : v) m = std::max(m, std::isfinite(x) ? x : INFINITY);
   return m;
@@ -82,7 +83,7 @@ std::vector<CheckResult> evaluate_suite_checks(const std::string& suite_dir, con
         r.value = finished(dir) ? 1 : 0;
         r.pass = r.value == 1;
       } else if (c.metric == "history_max") {
-        r.value = absolute_max(read_history(dir + "/history.csv").at(c.column));
+        r.value = largest(read_history(dir + "/history.csv").at(c.column));
         r.pass = r.value <= c.tolerance;
       } else {
         const History a = read_history(dir + "/history.csv");

@@ -1,7 +1,5 @@
 #include "ipopt/ipopt_formulation.hpp"
 
-#include <IpIpoptApplication.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,12 +24,6 @@ constexpr double kLandingTolerance = 1e-3;
 constexpr double kAcceptPrimal = 1e-9;
 constexpr double kAcceptKkt = 1e-8;
 
-double mean_edge(const std::vector<Vec2>& x, const ContactSurface& s) {
-  double sum = 0;
-  for (const Edge& e : s.edges) sum += (x[e.b] - x[e.a]).norm();
-  return s.edges.empty() ? 0.0 : sum / static_cast<double>(s.edges.size());
-}
-
 }  // namespace
 
 IpoptContact::IpoptContact(const Scene& scene, CaseSection settings) : scene_(scene) {
@@ -55,6 +47,22 @@ IpoptContact::IpoptContact(const Scene& scene, CaseSection settings) : scene_(sc
   sigma_ref_ = INFINITY;
   for (const auto& b : scene.bodies) sigma_ref_ = std::min(sigma_ref_, b.law.yield(0.0));
   sym_tol_ = 1e-9 * scene.mesh.size();
+  // One application for the run: its options are read once, each solve
+  // hands it a new NLP.
+  app_ = IpoptApplicationFactory();
+  auto& o = *app_->Options();
+  o.SetStringValue("sb", "yes");
+  o.SetIntegerValue("print_level", opt_.print_level);
+  o.SetNumericValue("tol", opt_.tol);
+  o.SetNumericValue("bound_relax_factor", opt_.bound_relax_factor);
+  o.SetIntegerValue("max_iter", opt_.max_iter);
+  o.SetStringValue("mu_strategy", opt_.mu_strategy);
+  o.SetNumericValue("mu_init", opt_.mu_init);
+  o.SetStringValue("linear_solver", opt_.linear_solver);
+  o.SetStringValue("jac_d_constant", "yes");
+  o.SetStringValue("nlp_scaling_method", "user-scaling");
+  if (app_->Initialize() != Ipopt::Solve_Succeeded)
+    throw InputError(scene.file + ": [formulations.ipopt]: Ipopt refused the options");
   for (const auto& pair : scene.contact_pairs) {
     Interface f;
     f.friction = pair.with_die() ? scene.dies[pair.die_id].friction : pair.friction;
@@ -66,11 +74,11 @@ IpoptContact::IpoptContact(const Scene& scene, CaseSection settings) : scene_(sc
     } else {
       f.name = pair.body + "-" + pair.with_body;
       const ContactSurface s1 = ContactSurface::from_sides(scene.mesh, pair.with_sides);
-      const bool first_finer = mean_edge(scene.mesh.x, s0) <= mean_edge(scene.mesh.x, s1);
+      const bool first_finer = mean_edge_length(scene.mesh.x, s0) <= mean_edge_length(scene.mesh.x, s1);
       f.slave = first_finer ? s0 : s1;
       f.master = first_finer ? s1 : s0;
     }
-    f.h = mean_edge(scene.mesh.x, f.slave);
+    f.h = mean_edge_length(scene.mesh.x, f.slave);
     for (const Edge& e : f.slave.edges) {
       const auto w = edge_weights(scene.mesh.x[e.a], scene.mesh.x[e.b], scene.geometry);
       area_ += w[0] + w[1];
@@ -86,7 +94,7 @@ void IpoptContact::begin_step(const StepView& v) {
     const Interface& f = ifaces_[i];
     std::vector<std::optional<SegmentHit>> hits;
     if (f.die < 0) {
-      const double capture = capture_ * mean_edge(x, f.master);
+      const double capture = capture_ * mean_edge_length(x, f.master);
       hits = find_segments(x, f.slave, f.master, SegmentGrid(x, f.master, capture), capture);
     }
     // The slave nodes' lumped contact areas.
@@ -167,24 +175,8 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
   const double force_scale = std::max(sigma_ref_ * area_, 1e-12);
   NlpOutcome out;
   Ipopt::SmartPtr<Ipopt::TNLP> nlp = new StepNlp(problem, rows, u, force_scale, speed_scale_, out);
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  auto& o = *app->Options();
-  o.SetStringValue("sb", "yes");
-  o.SetIntegerValue("print_level", opt_.print_level);
-  o.SetNumericValue("tol", opt_.tol);
-  o.SetNumericValue("bound_relax_factor", opt_.bound_relax_factor);
-  o.SetIntegerValue("max_iter", opt_.max_iter);
-  o.SetStringValue("mu_strategy", opt_.mu_strategy);
-  o.SetNumericValue("mu_init", opt_.mu_init);
-  o.SetStringValue("linear_solver", opt_.linear_solver);
-  o.SetStringValue("jac_d_constant", "yes");
-  o.SetStringValue("nlp_scaling_method", "user-scaling");
   SolveOutcome result;
-  if (app->Initialize() != Ipopt::Solve_Succeeded) {
-    result.reason = "Ipopt: the options were refused";
-    return result;
-  }
-  app->OptimizeTNLP(nlp);
+  app_->OptimizeTNLP(nlp);
   rows_ = static_cast<int>(rows.size());
   result.iterations = out.iterations;
   if (out.u.size() != u.size() || !out.u.allFinite()) {
@@ -200,7 +192,7 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
   for (auto& p : pairs_) p.force = 0, p.end_gap = p.kin.gap_from;
   kkt_ = Kkt{};
   active_ = 0;
-  max_penetration_ = max_penetration_rel_ = 0;
+  max_penetration_ = 0;
   for (std::size_t j = 0; j < rows.size(); ++j) {
     const double lambda = out.lambda[j];
     double value = 0;
@@ -215,11 +207,10 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
     active_ += pressing(p) ? 1 : 0;
     const double pen = std::max(0.0, -p.end_gap);
     max_penetration_ = std::max(max_penetration_, pen);
-    max_penetration_rel_ = std::max(max_penetration_rel_, pen / p.h);
+    kkt_.primal = std::max(kkt_.primal, pen / p.h);
     kkt_.dual = std::max(kkt_.dual, std::max(0.0, -p.force) / scale);
     kkt_.complementarity = std::max(kkt_.complementarity, std::abs(p.force * slack) / (scale * speed_scale_));
   }
-  kkt_.primal = max_penetration_rel_;
   kkt_.stationarity = stat.norm() / scale;
   result.residual = kkt_.stationarity;
   // Ipopt's "acceptable" point is taken when the conditions checked here
@@ -354,7 +345,7 @@ std::vector<std::string> IpoptContact::report_names() const {
 }
 
 std::vector<double> IpoptContact::report() const {
-  return {static_cast<double>(rows_), static_cast<double>(active_), max_penetration_, max_penetration_rel_,
+  return {static_cast<double>(rows_), static_cast<double>(active_), max_penetration_, kkt_.primal,
           kkt_.primal, kkt_.dual, kkt_.complementarity, kkt_.stationarity, friction_change_};
 }
 

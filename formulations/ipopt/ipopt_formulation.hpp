@@ -22,6 +22,8 @@
 // the kernel's contact passes) until it changes by less than
 // `friction_tolerance` of the largest bound.
 #pragma once
+#include <IpIpoptApplication.hpp>
+
 #include <string>
 #include <vector>
 
@@ -100,6 +102,7 @@ class IpoptContact final : public ContactFormulation {
 
   const Scene& scene_;
   Options opt_;
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
   std::vector<Interface> ifaces_;
   std::vector<Pair> pairs_;
   double capture_ = 1, speed_scale_ = 0, sym_tol_ = 0, sigma_ref_ = 0;
@@ -109,7 +112,7 @@ class IpoptContact final : public ContactFormulation {
   std::vector<double> last_force_;  // N per node: the last accepted solve's normal force (first bounds of a step)
   Kkt kkt_;
   int active_ = 0, rows_ = 0;
-  double max_penetration_ = 0, max_penetration_rel_ = 0;
+  double max_penetration_ = 0;  // mm (per element size: kkt_.primal)
 };
 
 }  // namespace rpfem

@@ -20,8 +20,6 @@ struct Penetrations {
 // the nodes inside it by more than tol (mm), and the deepest.
 Penetrations count_penetrations(const std::vector<std::optional<SegmentHit>>& hits, double tol);
 
-double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s);
-
 // The slave side (0 or 1) after this configuration: `current` unless the
 // master's nodes penetrate the slave at more nodes than the slave's nodes
 // penetrate the master, and deeper than `guard` (mm). The caller passes the

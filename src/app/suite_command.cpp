@@ -123,7 +123,7 @@ int suite_command(const SuiteOptions& options) {
   std::mutex print;
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  std::vector<char> running(jobs.size(), 0);
+  std::vector<char> running(jobs.size(), 0);  // guarded by `print`
   auto work = [&] {
     for (std::size_t i; (i = next++) < jobs.size();) {
       Job& j = jobs[i];
@@ -134,14 +134,17 @@ int suite_command(const SuiteOptions& options) {
       for (const auto& o : opt.overrides) cmd += " --set " + shell_quote(o);
       cmd += " > " + shell_quote(j.dir + "/run.log") + " 2>&1";
       const auto s0 = std::chrono::steady_clock::now();
-      running[i] = 1;
+      {
+        std::lock_guard<std::mutex> lock(print);
+        running[i] = 1;
+      }
       const int status = std::system(cmd.c_str());
-      running[i] = 0;
       j.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       j.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
       const int k = ++done;
+      std::lock_guard<std::mutex> lock(print);
+      running[i] = 0;
       if (!opt.quiet) {
-        std::lock_guard<std::mutex> lock(print);
         std::printf("[%d/%zu] %s %s%s%s: %s in %.1f s (%.0f s elapsed)\n", k, jobs.size(), j.scene.c_str(),
                     j.formulation.c_str(), j.variant.empty() ? "" : " ", j.variant.c_str(),
                     j.rc == 0 ? "finished" : ("stopped, exit " + std::to_string(j.rc)).c_str(), j.seconds, elapsed());

@@ -14,6 +14,12 @@ double cross(const Vec2& a, const Vec2& b) { return a(0) * b(1) - a(1) * b(0); }
 Vec2 outward(const Vec2& d) { return Vec2(d(1), -d(0)).normalized(); }
 }  // namespace
 
+double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s) {
+  double sum = 0;
+  for (const Edge& e : s.edges) sum += (x[e.b] - x[e.a]).norm();
+  return s.edges.empty() ? 0.0 : sum / static_cast<double>(s.edges.size());
+}
+
 ContactSurface ContactSurface::from_sides(const Mesh& mesh, const std::vector<std::string>& sides) {
   ContactSurface s;
   std::set<std::pair<Index, Index>> seen;

@@ -47,6 +47,9 @@ struct ContactSurface {
   }
 };
 
+// Mean edge length of a surface at coordinates x (mm; 0 without edges).
+double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s);
+
 struct SegmentHit {
   int edge = -1;        // index into the master surface's edges
   double xi = 0;        // position on the segment: master velocity (1 - xi) v_a + xi v_b

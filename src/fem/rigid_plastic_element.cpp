@@ -39,25 +39,8 @@ FlowPoint material_point(const RigidPlasticInput& in, int q, double rate) {
   return f;
 }
 
-// Volumetric rate row at a point: epsdot_v = b_v . v.
-Vec8 volumetric_row(const Quad4Point& c, Geometry g) {
-  const Mat48 B = strain_rate_matrix(c, g);
-  return (B.row(0) + B.row(1) + B.row(2)).transpose();
-}
-
-// The element's mean dilatation row (volume-weighted over the 2x2 points)
-// and its volume: epsdot_v,mean = b_v . v.
-Vec8 mean_volumetric_row(const RigidPlasticInput& in, double& volume) {
-  Vec8 bv = Vec8::Zero();
-  volume = 0;
-  for (int q = 0; q < 4; ++q) {
-    const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
-    const double w = volume_weight(p, in.geometry, 1.0);
-    bv += w * volumetric_row(p, in.geometry);
-    volume += w;
-  }
-  return bv / volume;
-}
+// Volumetric rate row of a point's B: epsdot_v = b_v . v.
+Vec8 volumetric_row(const Mat48& B) { return (B.row(0) + B.row(1) + B.row(2)).transpose(); }
 
 template <bool kGrad>
 double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
@@ -67,10 +50,16 @@ double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
     out->grad.setZero();
     out->hess.setZero();
   }
+  // The element's mean dilatation row, volume-weighted over the 2x2 points
+  // (the volumetric penalty below), summed in the same loop.
+  Vec8 bv = Vec8::Zero();
+  double wc = 0;
   for (int q = 0; q < 4; ++q) {
     const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
     const double w = volume_weight(p, in.geometry, 1.0);
     const Mat48 B = strain_rate_matrix(p, in.geometry);
+    bv.noalias() += w * volumetric_row(B);
+    wc += w;
     const Eigen::Vector4d eps = B * in.v;
     const Eigen::Vector4d Peps = P * eps;
     const double rate = std::sqrt(std::max(eps.dot(Peps), 0.0));
@@ -98,8 +87,7 @@ double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
   // of v_r / r is not the element's mean, and the 1-point rule let two
   // blocks with non-matching meshes at a contact interface flow 6.9 %
   // non-uniformly under homogeneous compression (docs/notes.md).
-  double wc = 0;
-  const Vec8 bv = mean_volumetric_row(in, wc);
+  bv /= wc;
   const double ev = bv.dot(in.v);
   energy += 0.5 * in.alpha * wc * ev * ev;
   if constexpr (kGrad) {
@@ -124,11 +112,14 @@ ElementPost rigid_plastic_post(const RigidPlasticInput& in) {
   const auto& P = effective_rate_metric();
   ElementPost post;
   double wsum = 0;
+  Vec8 bv = Vec8::Zero();  // the mean dilatation row, as in accumulate
   post.min_detJ = INFINITY;
   for (int q = 0; q < 4; ++q) {
     const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
     const double w = volume_weight(p, in.geometry, 1.0);
-    const Eigen::Vector4d eps = strain_rate_matrix(p, in.geometry) * in.v;
+    const Mat48 B = strain_rate_matrix(p, in.geometry);
+    bv.noalias() += w * volumetric_row(B);
+    const Eigen::Vector4d eps = B * in.v;
     post.strain_rate[q] = std::sqrt(std::max(eps.dot(P * eps), 0.0));
     post.strain_rate_mean += w * post.strain_rate[q];
     wsum += w;
@@ -138,8 +129,7 @@ ElementPost rigid_plastic_post(const RigidPlasticInput& in) {
   const Quad4Point c = quad4_point(in.X, 0.0, 0.0);
   post.min_detJ = std::min(post.min_detJ, c.detJ);
   post.volume = wsum;
-  double volume = 0;
-  post.volumetric_rate = mean_volumetric_row(in, volume).dot(in.v);
+  post.volumetric_rate = bv.dot(in.v) / wsum;
   post.mean_stress = in.alpha * post.volumetric_rate;  // sigma_m = alpha epsdot_v
   return post;
 }

@@ -24,7 +24,8 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
   double scale = 1.0;
   sys.residual(u, R, scale);
   if (!(scale > 0) || !std::isfinite(scale)) scale = 1.0;
-  double energy = sys.energy ? sys.energy(u) : 0.0;
+  // An anchored merit is evaluated after anchoring, at each line search.
+  double energy = sys.energy && !sys.anchor ? sys.energy(u) : 0.0;
   for (int it = 1; it <= s.max_iterations; ++it) {
     out.iterations = it;
     const double rnorm = R.norm();
@@ -82,7 +83,7 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
     R = Rtrial;
     if (trial_scale > 0 && std::isfinite(trial_scale)) scale = trial_scale;
     if (use_energy) energy = trial_energy;
-    else if (sys.energy) energy = sys.energy(u);
+    else if (sys.energy && !sys.anchor) energy = sys.energy(u);
     out.correction = step * du.norm() / std::max(u.norm(), 1e-300);
     out.residual = R.norm() / scale;
     if (it > s.direct_iterations && out.correction <= s.tol_velocity && out.residual <= s.tol_force) {
