@@ -1,6 +1,7 @@
 #include "suite_checks.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -30,7 +31,10 @@ std::vector<SuiteCheck> read_suite_checks(const std::string& path) {
       c.from = s.real("from", 0.0, Range::nonnegative(), "mm of stroke");
       c.stroke_tolerance = s.real("stroke_tolerance", 0.0, Range::nonnegative(), "mm");
     }
-    if (c.metric == "history_max") c.column = s.text("column", std::nullopt);
+    if (c.metric == "history_max") {
+      c.column = s.text("column", std::nullopt);
+      c.floor = s.text("floor", "");
+    }
     if (c.metric != "finished") c.tolerance = s.real("tolerance", std::nullopt, Range::nonnegative(), "");
     out.push_back(c);
   }
@@ -83,8 +87,24 @@ std::vector<CheckResult> evaluate_suite_checks(const std::string& suite_dir, con
         r.value = finished(dir) ? 1 : 0;
         r.pass = r.value == 1;
       } else if (c.metric == "history_max") {
-        r.value = largest(read_history(dir + "/history.csv").at(c.column));
+        const History h = read_history(dir + "/history.csv");
+        const std::vector<double>& v = h.at(c.column);
+        r.value = largest(v);
         r.pass = r.value <= c.tolerance;
+        if (!c.floor.empty() && !r.pass) {
+          // Each step against the larger of the tolerance and its floor.
+          const std::vector<double>& f = h.at(c.floor);
+          double worst = 0;
+          for (std::size_t i = 0; i < v.size(); ++i) {
+            const double allowed = std::max(c.tolerance, std::isfinite(f[i]) ? f[i] : 0.0);
+            worst = std::max(worst, std::isfinite(v[i]) ? v[i] / allowed : INFINITY);
+          }
+          r.pass = worst <= 1;
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "above the tolerance, within %s at every step (largest ratio %.2f)",
+                        c.floor.c_str(), worst);
+          r.note = r.pass ? buf : "";
+        }
       } else {
         const History a = read_history(dir + "/history.csv");
         const History b = read_history(run_dir(suite_dir, c.reference_scene, c.reference) + "/history.csv");

@@ -23,6 +23,9 @@ constexpr double kLandingTolerance = 1e-3;
 // dual, complementarity and stationarity residuals (issue 5's targets).
 constexpr double kAcceptPrimal = 1e-9;
 constexpr double kAcceptKkt = 1e-8;
+// Ipopt's complementarity tolerance as a fraction of kAcceptKkt (in the
+// checked measure's units).
+constexpr double kComplTolFactor = 0.1;
 
 }  // namespace
 
@@ -169,20 +172,71 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
     rows.push_back(std::move(r));
     row_pair.push_back(j);
   }
-  // Force scale: the softest body's yield stress over the whole slave
-  // surface (what the contact could carry; a point contact at the start
-  // carries far less, and its own load would put round-off above tol).
-  const double force_scale = std::max(sigma_ref_ * area_, 1e-12);
-  NlpOutcome out;
-  Ipopt::SmartPtr<Ipopt::TNLP> nlp = new StepNlp(problem, rows, u, force_scale, speed_scale_, out);
+  // The first solve sets Ipopt's absolute complementarity tolerance
+  // (N mm/s) from the element forces at the point it starts from; when the
+  // forces at the solution are smaller (a first point contact: the start's
+  // strain rates are far from the solution's) and the checked
+  // complementarity misses kAcceptKkt, it solves once more from its
+  // solution with the tolerance of the solution's forces.
+  Vec R;
+  double scale = 0;
+  problem.residual(u, R, scale);
+  NlpOutcome out = optimize(problem, rows, u, scale);
   SolveOutcome result;
-  app_->OptimizeTNLP(nlp);
-  rows_ = static_cast<int>(rows.size());
   result.iterations = out.iterations;
+  if (out.u.size() == u.size() && out.u.allFinite()) {
+    scale = measure(v, problem, rows, row_pair, out);
+    if (out.status == Ipopt::SUCCESS && kkt_.complementarity > kAcceptKkt) {
+      const Vec from = out.u;
+      out = optimize(problem, rows, from, scale);
+      result.iterations += out.iterations;
+      if (out.u.size() == u.size() && out.u.allFinite()) measure(v, problem, rows, row_pair, out);
+    }
+  }
+  rows_ = static_cast<int>(rows.size());
   if (out.u.size() != u.size() || !out.u.allFinite()) {
     result.reason = "Ipopt: " + ipopt_status_text(out.status) + " (no finite solution)";
     return result;
   }
+  result.residual = kkt_.stationarity;
+  // Ipopt's stalls, at its "acceptable" point or at a tiny step (its
+  // correction at round-off, as Newton's round-off floor in
+  // solver/newton.cpp), are taken when the contact conditions hold to
+  // kAcceptKkt and stationarity is within the floor Newton accepts, 100
+  // tol_force (a virtual rigid body's terms leave 1e-6; kkt_round_off
+  // shows the residual's own evaluation noise there).
+  const bool contact_ok = kkt_.primal <= kAcceptPrimal && kkt_.dual <= kAcceptKkt && kkt_.complementarity <= kAcceptKkt;
+  const bool stalled = out.status == Ipopt::STOP_AT_ACCEPTABLE_POINT || out.status == Ipopt::STOP_AT_TINY_STEP;
+  const bool acceptable = contact_ok && stalled && kkt_.stationarity <= 100 * round_off_force_;
+  if (out.status != Ipopt::SUCCESS && !acceptable) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, " (%d iterations; Kuhn-Tucker residuals: primal %.1e, dual %.1e, complementarity "
+                  "%.1e, stationarity %.1e)", out.iterations, kkt_.primal, kkt_.dual, kkt_.complementarity,
+                  kkt_.stationarity);
+    result.reason = "Ipopt: " + ipopt_status_text(out.status) + buf;
+    return result;
+  }
+  u = out.u;
+  result.converged = true;
+  return result;
+}
+
+NlpOutcome IpoptContact::optimize(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& from,
+                                  double force) {
+  // Force scale of the objective: the softest body's yield stress over the
+  // whole slave surface (what the contact could carry; a point contact at
+  // the start carries far less, and its own load would put round-off
+  // above tol).
+  const double force_scale = std::max(sigma_ref_ * area_, 1e-12);
+  if (force > 0) app_->Options()->SetNumericValue("compl_inf_tol", kComplTolFactor * kAcceptKkt * force * speed_scale_);
+  NlpOutcome out;
+  Ipopt::SmartPtr<Ipopt::TNLP> nlp = new StepNlp(problem, rows, from, force_scale, speed_scale_, out);
+  app_->OptimizeTNLP(nlp);
+  return out;
+}
+
+double IpoptContact::measure(const StepView& v, const StepProblem& problem, const std::vector<LinearRow>& rows,
+                             const std::vector<int>& row_pair, const NlpOutcome& out) {
   // The Kuhn-Tucker conditions (paper eq. 6), checked here.
   Vec R;
   double scale = 0;
@@ -212,28 +266,21 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
     kkt_.complementarity = std::max(kkt_.complementarity, std::abs(p.force * slack) / (scale * speed_scale_));
   }
   kkt_.stationarity = stat.norm() / scale;
-  result.residual = kkt_.stationarity;
-  // Ipopt's "acceptable" point is taken when the conditions checked here
-  // hold to kAcceptKkt anyway (the scaled error stalled just above tol).
-  // Its stop at a tiny step (its correction at round-off, as Newton's
-  // round-off floor in solver/newton.cpp) is taken when the contact
-  // conditions hold to kAcceptKkt and stationarity is within the floor
-  // Newton accepts, 100 tol_force (a virtual rigid body's terms leave 1e-6).
-  const bool contact_ok = kkt_.primal <= kAcceptPrimal && kkt_.dual <= kAcceptKkt && kkt_.complementarity <= kAcceptKkt;
-  const bool acceptable =
-      contact_ok && ((out.status == Ipopt::STOP_AT_ACCEPTABLE_POINT && kkt_.stationarity <= kAcceptKkt) ||
-                     (out.status == Ipopt::STOP_AT_TINY_STEP && kkt_.stationarity <= 100 * round_off_force_));
-  if (out.status != Ipopt::SUCCESS && !acceptable) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, " (%d iterations; Kuhn-Tucker residuals: primal %.1e, dual %.1e, complementarity "
-                  "%.1e, stationarity %.1e)", out.iterations, kkt_.primal, kkt_.dual, kkt_.complementarity,
-                  kkt_.stationarity);
-    result.reason = "Ipopt: " + ipopt_status_text(out.status) + buf;
-    return result;
+  // The residual's own round-off: R at u with every component moved by one
+  // unit in the last place (signs from a fixed hash), over the same scale.
+  // A stationarity within a small multiple of this is the floor of
+  // evaluating R in double precision, not a solver shortfall.
+  {
+    Vec u1 = out.u, R1;
+    for (Index i = 0; i < u1.size(); ++i) {
+      const double ulp = std::nextafter(std::abs(u1[i]), INFINITY) - std::abs(u1[i]);
+      u1[i] += ((i * 2654435761u) >> 7) % 2 ? ulp : -ulp;
+    }
+    double s1 = 0;
+    problem.residual(u1, R1, s1);
+    kkt_.round_off = (R1 - R).norm() / scale;
   }
-  u = out.u;
-  result.converged = true;
-  return result;
+  return scale;
 }
 
 void IpoptContact::couplings(const StepView&, std::vector<std::vector<Index>>& out) const {
@@ -341,12 +388,12 @@ void IpoptContact::node_fields(const StepView& v, std::map<std::string, std::vec
 
 std::vector<std::string> IpoptContact::report_names() const {
   return {"contact_candidates", "contact_pairs", "max_penetration", "max_penetration_rel",
-          "kkt_primal", "kkt_dual", "kkt_complementarity", "kkt_stationarity", "friction_change"};
+          "kkt_primal", "kkt_dual", "kkt_complementarity", "kkt_stationarity", "kkt_round_off", "friction_change"};
 }
 
 std::vector<double> IpoptContact::report() const {
   return {static_cast<double>(rows_), static_cast<double>(active_), max_penetration_, kkt_.primal,
-          kkt_.primal, kkt_.dual, kkt_.complementarity, kkt_.stationarity, friction_change_};
+          kkt_.primal, kkt_.dual, kkt_.complementarity, kkt_.stationarity, kkt_.round_off, friction_change_};
 }
 
 std::vector<NamedValue> IpoptContact::derived() const {

@@ -14,6 +14,7 @@
 //   dual:   max(0, -N) / F          (F the element-force scale of the step)
 //   complementarity: max |N g_end / dt| / (F v_ref)
 //   stationarity: |R(u) + A^T lambda| / F
+//   round_off: |R(u + one ulp) - R(u)| / F, the floor stationarity can reach
 // Candidates: every node of a die's contact side; between bodies, each node
 // of the finer surface over a segment of the other (one pass, roles fixed
 // at the start). The active set is Ipopt's business. Friction
@@ -29,6 +30,7 @@
 
 #include "contact/pair_kinematics.hpp"
 #include "contact/segment_search.hpp"
+#include "ipopt/step_nlp.hpp"
 #include "io/case_file.hpp"
 #include "model/contact_formulation.hpp"
 #include "model/scene.hpp"
@@ -67,6 +69,7 @@ class IpoptContact final : public ContactFormulation {
   };
   struct Kkt {
     double primal = 0, dual = 0, complementarity = 0, stationarity = 0;
+    double round_off = 0;  // R's change under one-ulp changes of u, / F: stationarity's floor
   };
   struct Pair {
     PairKinematics kin;
@@ -97,6 +100,13 @@ class IpoptContact final : public ContactFormulation {
   // must not count as contact (a ring's free faces got die friction).
   bool pressing(const Pair& p) const { return p.force > 0 && p.end_gap < kPressGap * p.h; }
   static constexpr double kPressGap = 1e-6;
+  // One Ipopt solve from `from`, its complementarity tolerance set from
+  // the element-force scale `force` (N; 0 keeps the last).
+  NlpOutcome optimize(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& from, double force);
+  // The Kuhn-Tucker residuals of a solve into kkt_ and the pairs' forces and
+  // gaps; returns the element-force scale at the solution.
+  double measure(const StepView& v, const StepProblem& problem, const std::vector<LinearRow>& rows,
+                 const std::vector<int>& row_pair, const NlpOutcome& out);
   // k w and the friction bound of every pair from per-node normal forces (N).
   void set_bounds(const StepView& v, const std::vector<double>& force);
 

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -29,8 +30,12 @@ namespace {
 
 struct Job {
   std::string scene, case_file, formulation, variant, dir;
+  double end_stroke = 0;  // mm
+  int steps = 0;          // steps planned at the case's stroke increment
   int rc = -1;
+  bool ended = false;
   double seconds = 0;
+  std::chrono::steady_clock::time_point start;
 };
 
 std::string shell_quote(const std::string& s) {
@@ -50,16 +55,36 @@ std::vector<std::string> applicable(const Scene& scene) {
   return out;
 }
 
-// The last row of a run's history.csv: "step N, stroke S mm".
-std::string last_step(const std::string& dir) {
+// Where a run is, from the last row of its history.csv.
+struct Progress {
+  bool started = false;
+  int step = 0, iterations = 0;
+  double stroke = 0;
+};
+
+Progress read_progress(const std::string& dir) {
   std::ifstream in(dir + "/history.csv");
-  std::string line, last;
+  std::string header, line, last;
+  std::getline(in, header);
   while (std::getline(in, line))
     if (!line.empty()) last = line;
-  const auto c1 = last.find(','), c2 = last.find(',', c1 + 1), c3 = last.find(',', c2 + 1);
-  if (c1 == std::string::npos || c3 == std::string::npos || !std::isdigit(static_cast<unsigned char>(last[0])))
-    return "starting";
-  return "step " + last.substr(0, c1) + ", stroke " + last.substr(c2 + 1, c3 - c2 - 1) + " mm";
+  auto split = [](const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+    return out;
+  };
+  const auto names = split(header), values = split(last);
+  Progress p;
+  for (std::size_t c = 0; c < names.size() && c < values.size(); ++c) {
+    char* end = nullptr;
+    const double x = std::strtod(values[c].c_str(), &end);
+    if (end == values[c].c_str()) continue;
+    if (names[c] == "step") p.step = static_cast<int>(x), p.started = true;
+    if (names[c] == "stroke") p.stroke = x;
+    if (names[c] == "newton_iterations") p.iterations = static_cast<int>(x);
+  }
+  return p;
 }
 
 std::vector<Job> plan(const SuiteOptions& opt) {
@@ -87,12 +112,68 @@ std::vector<Job> plan(const SuiteOptions& opt) {
           std::find(opt.formulations.begin(), opt.formulations.end(), f) == opt.formulations.end())
         continue;
       const std::string dir = opt.out_dir + "/" + name + "/" + f;
-      jobs.push_back({name, path.string(), f, "", dir});
+      const auto& st = scene.stepping;
+      const int steps = std::max(1, static_cast<int>(std::ceil(st.end_stroke / st.stroke_increment - 1e-9)));
+      auto add = [&](const std::string& variant, const std::string& d) {
+        Job j;
+        j.scene = name, j.case_file = path.string(), j.formulation = f, j.variant = variant, j.dir = d;
+        j.end_stroke = st.end_stroke, j.steps = steps;
+        jobs.push_back(j);
+      };
+      add("", dir);
       if (opt.variants && f == scene.formulation)
-        for (const auto& v : variants) jobs.push_back({name, path.string(), f, v.name, dir + "/" + v.name});
+        for (const auto& v : variants) add(v.name, dir + "/" + v.name);
     }
   }
   return jobs;
+}
+
+// One line per run in flight (step k of n, stroke, Newton or Ipopt
+// iterations of the last step, elapsed and estimated remaining time from
+// the stroke done), and the suite's estimate: the runs in flight's
+// remaining time plus the queued runs at the mean time of the finished
+// ones (or of the running ones' projections), over the workers, and no
+// less than the longest run in flight.
+void print_progress(const std::vector<Job>& jobs, const std::vector<char>& running, int workers, double elapsed) {
+  const auto now = std::chrono::steady_clock::now();
+  double left = 0, longest = 0, finished_time = 0, projected = 0;
+  int finished = 0, queued = 0, projections = 0;
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const Job& j = jobs[i];
+    if (j.ended) {
+      finished_time += j.seconds, ++finished;
+      continue;
+    }
+    if (!running[i]) {
+      ++queued;
+      continue;
+    }
+    const double run_s = std::chrono::duration<double>(now - j.start).count();
+    const Progress p = read_progress(j.dir);
+    const double frac = j.end_stroke > 0 ? std::min(1.0, p.stroke / j.end_stroke) : 0.0;
+    std::printf("  running %s %s%s%s: ", j.scene.c_str(), j.formulation.c_str(), j.variant.empty() ? "" : " ",
+                j.variant.c_str());
+    if (!p.started) {
+      std::printf("starting, %.0f s\n", run_s);
+      continue;
+    }
+    // Steps planned at the case's increment, or more where the run has cut
+    // steps (landings, retries): the count so far over the stroke done.
+    const int steps = frac > 0.02 ? std::max(j.steps, static_cast<int>(std::lround(p.step / frac))) : j.steps;
+    std::printf("step %d of %s%d, stroke %.3f of %.3f mm, %d iterations, %.0f s", p.step,
+                steps > j.steps ? "~" : "", steps, p.stroke, j.end_stroke, p.iterations, run_s);
+    if (frac > 0.02) {
+      const double rest = run_s * (1 - frac) / frac;
+      left += rest, longest = std::max(longest, rest), projected += run_s + rest, ++projections;
+      std::printf(", ~%.0f s left", rest);
+    }
+    std::printf("\n");
+  }
+  const double mean = finished ? finished_time / finished : (projections ? projected / projections : 0.0);
+  if (mean > 0)
+    std::printf("  suite: %d of %zu runs done, %.0f s elapsed, ~%.0f s left\n", finished, jobs.size(), elapsed,
+                std::max(longest, (left + queued * mean) / std::max(1, workers)));
+  std::fflush(stdout);
 }
 
 void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs) {
@@ -123,7 +204,7 @@ int suite_command(const SuiteOptions& options) {
   std::mutex print;
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  std::vector<char> running(jobs.size(), 0);  // guarded by `print`
+  std::vector<char> running(jobs.size(), 0);  // guarded by `print`, as the jobs' ends
   auto work = [&] {
     for (std::size_t i; (i = next++) < jobs.size();) {
       Job& j = jobs[i];
@@ -136,13 +217,15 @@ int suite_command(const SuiteOptions& options) {
       const auto s0 = std::chrono::steady_clock::now();
       {
         std::lock_guard<std::mutex> lock(print);
+        j.start = s0;
         running[i] = 1;
       }
       const int status = std::system(cmd.c_str());
+      std::lock_guard<std::mutex> lock(print);
       j.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       j.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      j.ended = true;
       const int k = ++done;
-      std::lock_guard<std::mutex> lock(print);
       running[i] = 0;
       if (!opt.quiet) {
         std::printf("[%d/%zu] %s %s%s%s: %s in %.1f s (%.0f s elapsed)\n", k, jobs.size(), j.scene.c_str(),
@@ -161,11 +244,7 @@ int suite_command(const SuiteOptions& options) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     if (opt.quiet || done >= static_cast<int>(jobs.size())) continue;
     std::lock_guard<std::mutex> lock(print);
-    for (std::size_t i = 0; i < jobs.size(); ++i)
-      if (running[i])
-        std::printf("  running %s %s%s%s: %s\n", jobs[i].scene.c_str(), jobs[i].formulation.c_str(),
-                    jobs[i].variant.empty() ? "" : " ", jobs[i].variant.c_str(), last_step(jobs[i].dir).c_str());
-    std::fflush(stdout);
+    print_progress(jobs, running, workers, elapsed());
   }
   for (auto& t : pool) t.join();
   write_manifest(opt, jobs);
