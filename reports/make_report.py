@@ -3,237 +3,67 @@
 `rpfem suite`: OUT/report.html (self-contained, figures embedded) and its
 Markdown twin OUT/report.md (figures in OUT/report_files/).
 
-Per scene: the press load against stroke for every formulation on one plot
-(kN; paper Fig. 11), the deformed meshes at the last recorded step coloured
-by effective strain rate, formulations side by side (paper Fig. 6, 9), the
-penetration and iterations per step, for rings the calibration curves
-(inner-diameter change against height reduction, one per friction value),
-and a table of the runs (status, steps, wall time, time per step, final
-load, largest penetration). At the top: how far each
-formulation's load is from the scene's reference formulation (`direct`
-where it ran, else `ipopt`), and how long each took.
+At the top: how far each formulation's load is from the scene's reference
+formulation (`direct` where it ran, else `ipopt`), and how long each took;
+then the verification checks, if the suite ran them. Per scene: the figures
+(curve_figures.py: load against stroke, the per-step penetration,
+iterations, residual and force imbalance, for rings the calibration
+curves; field_figures.py: the strain rate on the deformed meshes through
+the stroke and the velocity near the contact at the end), each with a
+caption, and a table of the runs (status, steps, wall time, time per step,
+final load, largest penetration). A figure the data do not allow, or that
+fails, is left out with a note. The runs' files are read by results.py.
 
 Run with Debian's Python: /usr/bin/python3 reports/make_report.py OUT
+(from any directory: the sibling modules import from the script's own
+directory, which Python puts first on sys.path).
 """
 import base64
-import csv
 import html
-import io
 import json
 import os
 import sys
 
-import h5py
-import matplotlib
-import numpy as np
+from curve_figures import CALIBRATION_FIGURE, LOAD_FIGURE, STEPS_FIGURE, calibration_png
+from field_figures import MESH_FIGURE, VELOCITY_FIGURE
+from plotting import plt
+from results import REFERENCE_ORDER, final_load_kN, label, load_differences, load_run
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.collections import PolyCollection  # noqa: E402
-
-REFERENCE_ORDER = ["direct", "ipopt", "penalty", "none"]
+# alt text, file tag, drawing (out, runs, scene) giving a PNG or None (no data), caption
+FIGURES = [LOAD_FIGURE, MESH_FIGURE, VELOCITY_FIGURE, STEPS_FIGURE, CALIBRATION_FIGURE]
 
 
-def read_history(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    cols = {}
-    for r in rows:
-        for k, v in r.items():
-            try:
-                cols.setdefault(k, []).append(float(v))
-            except (TypeError, ValueError):
-                pass
-    return cols
+def render(draw, out, rs, sc, alt):
+    """draw's PNG, or None with a note when the data do not allow it: a
+    broken figure is skipped, it does not stop the report. No ring
+    calibration curves is no news."""
+    try:
+        png = draw(out, rs, sc)
+        return png, "" if png or draw is calibration_png else alt + ": not drawn, no run has the data"
+    except Exception as e:  # noqa: BLE001 - any failure of one figure only skips it
+        plt.close("all")
+        print("make_report: %s, %s skipped: %s: %s" % (sc, alt, type(e).__name__, e), file=sys.stderr)
+        return None, "%s: figure skipped (%s: %s)" % (alt, type(e).__name__, e)
 
 
-def press_column(hist, summary):
-    """The load column with the largest final |Fy|: the press load."""
-    best, value = None, -1.0
-    for name in summary.get("final_load_N", {}):
-        col = name + ".Fy"
-        if col in hist and hist[col] and abs(hist[col][-1]) > value:
-            best, value = col, abs(hist[col][-1])
-    return best
-
-
-def load_run(out, run):
-    d = os.path.join(out, run["dir"])
-    r = dict(run)
-    r["summary"], r["history"] = {}, {}
-    if os.path.exists(os.path.join(d, "summary.json")):
-        with open(os.path.join(d, "summary.json")) as f:
-            r["summary"] = json.load(f)
-    if os.path.exists(os.path.join(d, "history.csv")):
-        r["history"] = read_history(os.path.join(d, "history.csv"))
-    r["load_col"] = press_column(r["history"], r["summary"]) if r["history"] else None
-    return r
-
-
-def label(r):
-    return r["formulation"] + (" / " + r["variant"] if r["variant"] else "")
-
-
-def final_load_kN(r):
-    c = r["load_col"]
-    return abs(r["history"][c][-1]) / 1000 if c else float("nan")
-
-
-def interp(x, xs, ys):
-    if not xs:
-        return float("nan")
-    if x <= xs[0]:
-        return ys[0]
-    for i in range(1, len(xs)):
-        if x <= xs[i]:
-            t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]) if xs[i] > xs[i - 1] else 0
-            return ys[i - 1] + t * (ys[i] - ys[i - 1])
-    return ys[-1]
-
-
-def load_differences(r, ref):
-    """Relative differences of r's press load from ref's at r's recorded
-    strokes within ref's range (ref interpolated linearly): the largest, the
-    median, and the largest past the first quarter of the stroke (where the
-    staircase of nodes landing one ring at a time, at different strokes in
-    different formulations, no longer dominates)."""
-    nan = float("nan")
-    if not (r["load_col"] and ref["load_col"]):
-        return nan, nan, nan
-    xs, ys = ref["history"]["stroke"], [abs(v) for v in ref["history"][ref["load_col"]]]
-    diffs = []
-    for s, f in zip(r["history"]["stroke"], r["history"][r["load_col"]]):
-        if s > xs[-1] + 1e-12:
-            break
-        g = interp(s, xs, ys)
-        if g > 0:
-            diffs.append((s, abs(abs(f) / g - 1)))
-    if not diffs:
-        return nan, nan, nan
-    d = sorted(x for _, x in diffs)
-    late = [x for s, x in diffs if s >= 0.25 * xs[-1]]
-    return d[-1], d[len(d) // 2], max(late) if late else nan
-
-
-def png_bytes(fig):
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    return buf.getvalue()
-
-
-def mesh_png(out, runs, title):
-    """Deformed meshes at each run's last recorded step, coloured by the
-    effective strain rate (1/s), one panel per base run, one colour scale."""
-    panels = []
-    for r in runs:
-        path = os.path.join(out, r["dir"], "result.h5")
-        if r["variant"] or not os.path.exists(path):
+def scene_figures(out, sc, rs):
+    """The scene's figures, written to report_files/, as HTML (embedded, with
+    captions) and Markdown."""
+    imgs_html, imgs_md = "", ""
+    for alt, tag, draw, caption in FIGURES:
+        png, note = render(draw, out, rs, sc, alt)
+        if png is None:
+            imgs_html += "<p><em>%s</em></p>" % html.escape(note) if note else ""
+            imgs_md += "*%s*\n\n" % note if note else ""
             continue
-        with h5py.File(path, "r") as f:
-            steps = sorted(k for k in f["steps"] if k.isdigit())
-            if not steps:
-                continue
-            g = f["steps"][steps[-1]]
-            panels.append((r["formulation"], int(steps[-1]), g["coordinates"][:], f["mesh/connectivity"][:],
-                           g["strain_rate"][:]))
-    if not panels:
-        return None
-    vmax = max(float(np.max(p[4])) for p in panels) or 1.0
-    fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels) + 1.2, 4.0), dpi=110, squeeze=False)
-    for ax, (name, step, x, conn, rate) in zip(axes[0], panels):
-        pc = PolyCollection(x[conn.astype(int)], array=rate, cmap="viridis", edgecolors="k", linewidths=0.1)
-        pc.set_clim(0, vmax)
-        ax.add_collection(pc)
-        ax.autoscale_view()
-        ax.set_aspect("equal")
-        ax.set_title("%s, step %d" % (name, step), fontsize=9)
-        ax.set_xlabel("x or r (mm)")
-        ax.set_ylabel("y (mm)")
-    fig.colorbar(pc, ax=list(axes[0]), label="effective strain rate (1/s)")
-    fig.suptitle(title, fontsize=10)
-    return png_bytes(fig)
-
-
-def steps_png(runs, title):
-    """Penetration per element size (contact formulations that report it)
-    and iterations per step against stroke."""
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 3.6), dpi=110)
-    any_pen = False
-    for r in runs:
-        h = r["history"]
-        if not h or r["variant"]:
-            continue
-        if "max_penetration_rel" in h:
-            vals = [max(v, 1e-16) for v in h["max_penetration_rel"]]
-            a1.semilogy(h["stroke"], vals, label=r["formulation"])
-            any_pen = True
-        if "newton_iterations" in h:
-            a2.plot(h["stroke"], h["newton_iterations"], label=r["formulation"])
-    a1.set_xlabel("stroke (mm)")
-    a1.set_ylabel("max penetration / element size")
-    a1.set_title("penetration (floor 1e-16 shown for zero)", fontsize=9)
-    a2.set_xlabel("stroke (mm)")
-    a2.set_ylabel("iterations per step (Newton or Ipopt)")
-    for a in (a1, a2):
-        a.grid(True, alpha=0.3)
-        if a.lines:
-            a.legend(fontsize=8)
-    if not any_pen:
-        a1.text(0.5, 0.5, "no contact penetration reported", ha="center", transform=a1.transAxes)
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    return png_bytes(fig)
-
-
-def initial_height(out, r):
-    """Height of the modelled part at the start (mm), from result.h5."""
-    path = os.path.join(out, r["dir"], "result.h5")
-    if not os.path.exists(path):
-        return None
-    with h5py.File(path, "r") as f:
-        y = f["mesh/initial_coordinates"][:, 1]
-    return float(y.max() - y.min())
-
-
-def calibration_png(out, runs, title):
-    """Ring calibration curves: inner-diameter change (%) against height
-    reduction (%), one curve per run (formulation and friction variant),
-    from the `inner_diameter_mid` monitor; None when the scene has none."""
-    curves = [r for r in runs if "inner_diameter_mid" in r["history"]]
-    if not curves:
-        return None
-    fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=110)
-    colours = plt.get_cmap("tab20")
-    for i, r in enumerate(curves):
-        H0 = initial_height(out, r)
-        if not H0:
-            continue
-        ax.plot([100 * s / H0 for s in r["history"]["stroke"]], r["history"]["inner_diameter_mid"], label=label(r),
-                color=colours(i % 20), linestyle="-" if r["variant"] else "--")
-    ax.axhline(0, color="k", linewidth=0.5)
-    ax.set_xlabel("height reduction (%)")
-    ax.set_ylabel("inner diameter change at mid-height (%)")
-    ax.set_title(title + ": calibration curves")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    return png_bytes(fig)
-
-
-def figure_png(runs, title):
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
-    for r in runs:
-        if r["load_col"]:
-            ax.plot(r["history"]["stroke"], [abs(v) / 1000 for v in r["history"][r["load_col"]]],
-                    label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")")
-    ax.set_xlabel("stroke (mm)")
-    ax.set_ylabel("load (kN)")
-    ax.set_title(title)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    return png_bytes(fig)
+        fname = "report_files/%s_%s.png" % (sc, tag)
+        with open(os.path.join(out, fname), "wb") as f:
+            f.write(png)
+        imgs_html += ("<figure><img alt='%s, %s' src='data:image/png;base64,%s'/><figcaption>%s</figcaption>"
+                      "</figure>" % (html.escape(alt), html.escape(sc), base64.b64encode(png).decode(),
+                                     html.escape(caption)))
+        imgs_md += "![%s, %s](%s)\n\n*%s*\n\n" % (alt, sc, fname, caption)
+    return imgs_html, imgs_md
 
 
 def run_row(r):
@@ -273,20 +103,7 @@ def main(out):
             summary_rows.append([sc, r["formulation"], ref["formulation"] if ref and r is not ref else "-"]
                                 + ["%.2e" % x if x == x else "-" for x in diffs]
                                 + ["%.1f" % r["wall_time_s"], r["summary"].get("status", "missing")])
-        figures = [("load against stroke", "load", figure_png(rs, sc)),
-                   ("deformed meshes coloured by effective strain rate", "mesh", mesh_png(out, rs, sc)),
-                   ("penetration and iterations per step", "steps", steps_png(rs, sc)),
-                   ("ring calibration curves", "calibration", calibration_png(out, rs, sc))]
-        imgs_html, imgs_md = "", ""
-        for alt, tag, png in figures:
-            if png is None:
-                continue
-            fname = "report_files/%s_%s.png" % (sc, tag)
-            with open(os.path.join(out, fname), "wb") as f:
-                f.write(png)
-            imgs_html += "<img alt='%s, %s' src='data:image/png;base64,%s'/>" % (
-                html.escape(alt), html.escape(sc), base64.b64encode(png).decode())
-            imgs_md += "![%s, %s](%s)\n\n" % (alt, sc, fname)
+        imgs_html, imgs_md = scene_figures(out, sc, rs)
         table = [run_row(r) for r in rs]
         desc = next((r["summary"].get("parameters", {}).get("run", {}).get("description", "") for r in rs), "")
         sections_html.append("<h2>%s</h2><p>%s</p>%s%s" % (html.escape(sc), html.escape(desc), imgs_html,
@@ -317,7 +134,7 @@ def main(out):
     with open(os.path.join(out, "report.html"), "w") as f:
         f.write("<!DOCTYPE html><html><head><meta charset='utf-8'><title>rpfem suite report</title>"
                 "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:collapse}"
-                "td,th{border:1px solid #999;padding:2px 6px;text-align:right}</style></head><body>"
+                "td,th{border:1px solid #999;padding:2px 6px;text-align:right}img{max-width:100%%}</style></head><body>"
                 "<h1>rpfem suite report</h1><p>%s</p>%s%s%s</body></html>\n"
                 % (html.escape(intro), html_table(sum_header, summary_rows), ver_html, "".join(sections_html)))
     with open(os.path.join(out, "report.md"), "w") as f:

@@ -22,11 +22,15 @@ grep -q "<img alt='load against stroke, upsetting_dies_frictionless_axisym' src=
   "$tmp/o/report.html" || { echo "FAIL: figure not embedded"; exit 1; }
 grep -q "| upsetting_dies_frictionless_axisym | penalty | direct |" "$tmp/o/report.md" \
   || { echo "FAIL: no penalty-vs-direct row"; exit 1; }
-for fig in load mesh steps; do
+for fig in load mesh velocity steps; do
   [ -s "$tmp/o/report_files/upsetting_dies_frictionless_axisym_$fig.png" ] || { echo "FAIL: no $fig figure"; exit 1; }
 done
 grep -q "<img alt='deformed meshes coloured by effective strain rate, upsetting_dies_frictionless_axisym'" \
   "$tmp/o/report.html" || { echo "FAIL: mesh figure not embedded"; exit 1; }
+grep -q "<img alt='velocity magnitude with vectors near the contact, upsetting_dies_frictionless_axisym'" \
+  "$tmp/o/report.html" || { echo "FAIL: velocity figure not embedded"; exit 1; }
+grep -q "(report_files/upsetting_dies_frictionless_axisym_velocity.png)" "$tmp/o/report.md" \
+  || { echo "FAIL: velocity figure not in the Markdown"; exit 1; }
 # The suite ran the shipped checks of this scene: they pass, and the report
 # carries the table.
 grep -q '"failed" : 0' "$tmp/o/verification.json" || { echo "FAIL: suite verification"; cat "$tmp/o/verification.json"; exit 1; }
