@@ -125,7 +125,7 @@ def main(out):
         for c in ver["checks"]:
             ver_rows.append([c["scene"], c["formulation"] + (" / " + c["variant"] if c.get("variant") else ""),
                              c["metric"], "%.3e" % c["value"] if "value" in c else "-", "%.1e" % c["tolerance"],
-                             "pass" if c["pass"] else "FAIL" + (": " + c["note"] if c.get("note") else ""),
+                             ("pass" if c["pass"] else "FAIL") + (": " + c["note"] if c.get("note") else ""),
                              c.get("issue", "")])
         ver_failed = ver["failed"]
     ver_title = "Verification checks: %d, %d failed" % (len(ver_rows), ver_failed)
