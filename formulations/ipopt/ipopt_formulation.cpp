@@ -172,29 +172,31 @@ std::optional<SolveOutcome> IpoptContact::solve(const StepView& v, StepProblem& 
     rows.push_back(std::move(r));
     row_pair.push_back(j);
   }
-  // The first solve sets Ipopt's absolute complementarity tolerance
-  // (N mm/s) from the element forces at the point it starts from; when the
-  // forces at the solution are smaller (a first point contact: the start's
-  // strain rates are far from the solution's) and the checked
-  // complementarity misses kAcceptKkt, it solves once more from its
-  // solution with the tolerance of the solution's forces.
-  Vec R;
-  double scale = 0;
-  problem.residual(u, R, scale);
-  NlpOutcome out = optimize(problem, rows, u, scale);
+  // Ipopt's absolute complementarity tolerance (N mm/s) comes from the
+  // element forces of the last solve (at the run's first solve: of the
+  // point Ipopt starts from). When the forces at the solution are smaller
+  // (a first point contact) and the checked complementarity misses
+  // kAcceptKkt, it solves once more from its solution with the tolerance
+  // of the solution's forces.
+  if (!(last_scale_ > 0)) {
+    Vec R;
+    problem.residual(u, R, last_scale_);
+  }
+  const auto finite = [&](const NlpOutcome& o) { return o.u.size() == u.size() && o.u.allFinite(); };
+  NlpOutcome out = optimize(problem, rows, u, last_scale_);
   SolveOutcome result;
   result.iterations = out.iterations;
-  if (out.u.size() == u.size() && out.u.allFinite()) {
-    scale = measure(v, problem, rows, row_pair, out);
+  if (finite(out)) {
+    last_scale_ = measure(v, problem, rows, row_pair, out);
     if (out.status == Ipopt::SUCCESS && kkt_.complementarity > kAcceptKkt) {
       const Vec from = out.u;
-      out = optimize(problem, rows, from, scale);
+      out = optimize(problem, rows, from, last_scale_);
       result.iterations += out.iterations;
-      if (out.u.size() == u.size() && out.u.allFinite()) measure(v, problem, rows, row_pair, out);
+      if (finite(out)) last_scale_ = measure(v, problem, rows, row_pair, out);
     }
   }
   rows_ = static_cast<int>(rows.size());
-  if (out.u.size() != u.size() || !out.u.allFinite()) {
+  if (!finite(out)) {
     result.reason = "Ipopt: " + ipopt_status_text(out.status) + " (no finite solution)";
     return result;
   }

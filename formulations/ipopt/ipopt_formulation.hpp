@@ -118,6 +118,7 @@ class IpoptContact final : public ContactFormulation {
   double capture_ = 1, speed_scale_ = 0, sym_tol_ = 0, sigma_ref_ = 0;
   double area_ = 0;  // mm^2, all slave surfaces at the start (force scale)
   double round_off_force_ = 0;  // Newton's tol_force (relative residual)
+  double last_scale_ = 0;       // N, the element-force scale of the last solve (Ipopt's complementarity tolerance)
   double friction_tol_ = 0, friction_change_ = 0;
   std::vector<double> last_force_;  // N per node: the last accepted solve's normal force (first bounds of a step)
   Kkt kkt_;
