@@ -302,10 +302,11 @@ StepCheck PenaltyContact::check(const StepView& v, const std::vector<Vec2>& vel,
 
 StepCheck PenaltyContact::check_one_sided(const StepView& v, const std::vector<Vec2>& vel) {
   // Every candidate pair carries the one-sided penalty: the contact state
-  // only reports the pairs that press (N > 0) and switches the friction
-  // factor on and off. A state change matters only to that friction, so
-  // only then is the step solved again; a node changes state at most once
-  // per solve of the step (no flip-flop).
+  // only reports the pairs that press (N > 0), switches the friction
+  // factor on and off and sets the contact area of the sticking bound k w
+  // (which caps Coulomb's mu N too). A state change matters only to
+  // friction, so only then is the step solved again; a node changes state
+  // at most once per solve of the step (no flip-flop).
   StepCheck out;
   out.events.swap(events_);
   active_pairs_ = 0;
@@ -316,7 +317,7 @@ StepCheck PenaltyContact::check_one_sided(const StepView& v, const std::vector<V
     if (pressing != static_cast<bool>(active(p)) && !p.changed) {
       set_active(p, pressing);
       p.changed = true;
-      changed = changed || p.law.kind == FrictionLaw::Kind::Factor;
+      changed = changed || p.law.kind != FrictionLaw::Kind::None;
       out.events.push_back((pressing ? "touch node " : "release node ") + std::to_string(p.kin.nodes[0]) +
                            (pressing ? " on " : " from ") + ifaces_[p.iface].name);
       if (changed) p.res = evaluate(p, vel, false);
