@@ -72,7 +72,7 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
     cols.push_back(n + ".Fx");
     cols.push_back(n + ".Fy");
   }
-  for (const auto& c : {"newton_iterations", "contact_passes", "residual", "volume", "volume_change", "dt", "cuts",
+  for (const auto& c : {"newton_iterations", "contact_passes", "residual", "tangent_rcond", "volume", "volume_change", "dt", "cuts",
                         "min_scaled_jacobian", "rigid_points"})
     cols.push_back(c);
   for (const auto& n : report_names) cols.push_back(n);
@@ -93,7 +93,7 @@ void RunObserver::on_step(const StepRecord& r) {
     row.push_back(l(0));
     row.push_back(l(1));
   }
-  for (double v : {double(r.newton_iterations), double(r.contact_passes), r.residual, r.volume, dv, r.dt,
+  for (double v : {double(r.newton_iterations), double(r.contact_passes), r.residual, r.tangent_rcond, r.volume, dv, r.dt,
                    double(r.cuts), r.min_scaled_jacobian, double(r.rigid_points)})
     row.push_back(v);
   row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());
@@ -157,6 +157,7 @@ std::string RunObserver::finish(const RunOutcome& out) {
   summary_.insert_or_assign("linear_solver", toml::table{{"pattern_builds", out.pattern_builds},
                                                           {"factorizations", out.factorizations},
                                                           {"cholesky_fallbacks", out.cholesky_fallbacks}});
+  if (std::isfinite(out.min_tangent_rcond)) summary_.insert_or_assign("min_tangent_rcond", out.min_tangent_rcond);
   write_summary();
   const std::string json = to_json(summary_);
   writer_->update_metadata(json);

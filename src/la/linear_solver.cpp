@@ -2,7 +2,10 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <vector>
 
 namespace rpfem {
 
@@ -10,11 +13,40 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// Eigen's wrappers keep the factors protected: these read their condition
+// estimates.
+struct Cholesky : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
+  double rcond() { return m_cholmodFactor ? cholmod_rcond(m_cholmodFactor, &cholmod()) : 0.0; }
+};
+struct LU : Eigen::UmfPackLU<SpMat> {
+  // UMFPACK's own Info[UMFPACK_RCOND] is of the row-scaled matrix R A; the
+  // same estimate for A itself: P R A Q = L U gives P A Q = (S L S^-1)(S U)
+  // with S = diag(1 / r_P[k]), so U_kk / r_P[k] is the unscaled diagonal
+  // (UMFPACK User Guide, umfpack_get_numeric: Rs and do_recip).
+  double rcond() {
+    const int n = static_cast<int>(rows());
+    std::vector<int> P(n);
+    std::vector<double> D(n), Rs(n);
+    int recip = 0;
+    if (umfpack_di_get_numeric(nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, P.data(), nullptr, D.data(),
+                               &recip, Rs.data(), m_numeric) != UMFPACK_OK)
+      return 0.0;
+    double lo = INFINITY, hi = 0;
+    for (int k = 0; k < n; ++k) {
+      const double r = recip ? Rs[P[k]] : 1.0 / Rs[P[k]];
+      const double d = std::abs(D[k] / r);
+      lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    return hi > 0 ? lo / hi : 0.0;
+  }
+};
+
 }  // namespace
 
 struct LinearSolver::Impl {
-  Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> llt;
-  Eigen::UmfPackLU<SpMat> lu;
+  Cholesky llt;
+  LU lu;
   std::uint64_t llt_pattern = 0, lu_pattern = 0;  // 0: not analyzed
   bool use_lu = false;
   Impl() { llt.cholmod().print = 0; }  // the kernel never prints
@@ -40,6 +72,7 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
     if (impl_->llt.info() == Eigen::Success) {
       impl_->use_lu = false;
       stats_.last_solver = "cholmod";
+      note_rcond(impl_->llt.rcond());
       return true;
     }
     if (choice_ == LinearSolverChoice::Cholmod) return false;
@@ -57,7 +90,14 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
   stats_.factor_seconds += seconds_since(t0);
   impl_->use_lu = true;
   stats_.last_solver = "umfpack";
-  return impl_->lu.info() == Eigen::Success;
+  if (impl_->lu.info() != Eigen::Success) return false;
+  note_rcond(impl_->lu.rcond());
+  return true;
+}
+
+void LinearSolver::note_rcond(double rcond) {
+  stats_.last_rcond = std::isfinite(rcond) ? rcond : 0.0;
+  stats_.min_rcond = std::min(stats_.min_rcond, stats_.last_rcond);
 }
 
 Vec LinearSolver::solve(const Vec& b) {

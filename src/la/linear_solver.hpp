@@ -3,6 +3,7 @@
 // or when Cholesky finds the matrix indefinite. The symbolic analysis is
 // reused while the sparsity pattern is unchanged.
 #pragma once
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -18,6 +19,11 @@ struct LinearSolveStats {
   int cholesky_fallbacks = 0;  // Cholesky failed, UMFPACK used instead
   double analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
   std::string last_solver;   // "cholmod" or "umfpack"
+  // A rough reciprocal condition number of the last factorization, from
+  // its factor's diagonal (CHOLMOD's cholmod_rcond: (min L_ii / max L_ii)^2;
+  // UMFPACK: min |U_ii| / max |U_ii| with its row scaling undone), and the least
+  // since reset_rcond() (infinity if nothing was factorized since).
+  double last_rcond = 0, min_rcond = INFINITY;
 };
 
 class LinearSolver {
@@ -30,8 +36,10 @@ class LinearSolver {
   bool factorize(const SpMat& A, bool symmetric, std::uint64_t pattern_version);
   Vec solve(const Vec& b);
   const LinearSolveStats& stats() const { return stats_; }
+  void reset_rcond() { stats_.min_rcond = INFINITY; }
 
  private:
+  void note_rcond(double rcond);
   struct Impl;
   std::unique_ptr<Impl> impl_;
   LinearSolverChoice choice_;

@@ -24,6 +24,7 @@ struct Solution {
   std::vector<double> flow_stress;
   int iterations = 0, passes = 0;
   double residual = 0;
+  double rcond = INFINITY;  // least condition estimate of the step's factorizations
   std::vector<std::string> events;
   std::string failure;  // empty when solved
 };
@@ -80,6 +81,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
   contact_.begin_step(sv);
+  ws_.linear.reset_rcond();
   std::vector<Vec2> v = guess;
   const bool cold = std::all_of(guess.begin(), guess.end(), [](const Vec2& g) { return g.isZero(); });
   constexpr int kMaxPasses = 50;
@@ -121,6 +123,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     return sol;
   }
   sol.v = std::move(v);
+  sol.rcond = ws_.linear.stats().min_rcond;
   // Per element: strain rates for the strain update, recorded fields.
   const Index ne = scene_.mesh.num_elements();
   sol.rate.resize(ne);
@@ -165,6 +168,8 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.newton_iterations = sol.iterations;
   r.contact_passes = sol.passes;
   r.residual = sol.residual;
+  r.tangent_rcond = std::isfinite(sol.rcond) ? sol.rcond : -1.0;
+  out_.min_tangent_rcond = std::min(out_.min_tangent_rcond, r.tangent_rcond < 0 ? INFINITY : r.tangent_rcond);
   r.x = st.x;
   r.v = sol.v;
   const Index ne = scene_.mesh.num_elements();

@@ -8,6 +8,7 @@
 // then the run stops, every finished step already recorded.
 #pragma once
 #include <array>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -24,6 +25,8 @@ struct StepRecord {
   int newton_iterations = 0;            // incl. contact re-solves
   int contact_passes = 0;               // solves of this configuration
   double residual = 0;                  // relative force residual
+  double tangent_rcond = -1;            // least condition estimate of the step's
+                                        // factorizations (-1: none, e.g. ipopt)
   std::vector<Vec2> x, v;               // mm, mm/s
   std::vector<double> strain_rate, strain, mean_stress, flow_stress;  // per element
   std::vector<Vec2> loads;              // N, whole body, per load_names entry
@@ -66,6 +69,7 @@ struct RunOutcome {
   int total_cuts = 0;
   double assembly_seconds = 0, analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
   int pattern_builds = 0, factorizations = 0, cholesky_fallbacks = 0;
+  double min_tangent_rcond = INFINITY;  // over the recorded steps
 };
 
 RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer);

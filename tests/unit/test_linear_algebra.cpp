@@ -164,3 +164,25 @@ TEST(Newton, StopsOnTheRoundOffFloorOnlyNearTheTolerance) {
   EXPECT_TRUE(none.converged);
   EXPECT_FALSE(none.at_round_off);
 }
+
+// The condition estimate of a diagonal matrix diag(1, ..., 1, 1e-6) is its
+// exact reciprocal condition number, 1e-6, from either factorization
+// (CHOLMOD returns the square of L's diagonal ratio, L_ii = sqrt(a_ii));
+// the least since reset_rcond() is kept.
+TEST(LinearSolver, ConditionEstimateFromTheFactorDiagonal) {
+  const int n = 10;
+  SpMat D(n, n);
+  for (int i = 0; i < n; ++i) D.insert(i, i) = i == n - 1 ? 1e-6 : 1.0;
+  SpMat W = D;
+  W.coeffRef(n - 1, n - 1) = 1e-12;
+  LinearSolver chol, lu(LinearSolverChoice::Umfpack);
+  ASSERT_TRUE(chol.factorize(D, true, 1));
+  EXPECT_NEAR(chol.stats().last_rcond, 1e-6, 1e-18);
+  ASSERT_TRUE(lu.factorize(D, true, 1));
+  EXPECT_NEAR(lu.stats().last_rcond, 1e-6, 1e-18);
+  ASSERT_TRUE(lu.factorize(W, true, 1));
+  ASSERT_TRUE(lu.factorize(D, true, 1));
+  EXPECT_NEAR(lu.stats().min_rcond, 1e-12, 1e-24);
+  lu.reset_rcond();
+  EXPECT_TRUE(std::isinf(lu.stats().min_rcond));
+}

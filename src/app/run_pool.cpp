@@ -1,0 +1,171 @@
+#include "app/run_pool.hpp"
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+namespace fs = std::filesystem;
+
+namespace rpfem {
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Slot {
+  bool running = false, ended = false;
+  Clock::time_point start;
+};
+
+// Where a run is, from the last row of its history.csv.
+struct Progress {
+  bool started = false;
+  int step = 0, iterations = 0;
+  double stroke = 0;
+};
+
+Progress read_progress(const std::string& dir) {
+  std::ifstream in(dir + "/history.csv");
+  std::string header, line, last;
+  std::getline(in, header);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  auto split = [](const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+    return out;
+  };
+  const auto names = split(header), values = split(last);
+  Progress p;
+  for (std::size_t c = 0; c < names.size() && c < values.size(); ++c) {
+    char* end = nullptr;
+    const double x = std::strtod(values[c].c_str(), &end);
+    if (end == values[c].c_str()) continue;
+    if (names[c] == "step") p.step = static_cast<int>(x), p.started = true;
+    if (names[c] == "stroke") p.stroke = x;
+    if (names[c] == "newton_iterations") p.iterations = static_cast<int>(x);
+  }
+  return p;
+}
+
+// One line per run in flight (step k of n, stroke, Newton or Ipopt
+// iterations of the last step, elapsed and estimated remaining time from
+// the stroke done), and the pool's estimate: the runs in flight's
+// remaining time plus the queued runs at the mean time of the finished
+// ones (or of the running ones' projections), over the workers, and no
+// less than the longest run in flight.
+void print_progress(const std::vector<PoolRun>& runs, const std::vector<Slot>& slots, int workers,
+                    double elapsed) {
+  const auto now = Clock::now();
+  double left = 0, longest = 0, finished_time = 0, projected = 0;
+  int finished = 0, queued = 0, projections = 0;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const PoolRun& j = runs[i];
+    if (slots[i].ended) {
+      finished_time += j.seconds, ++finished;
+      continue;
+    }
+    if (!slots[i].running) {
+      ++queued;
+      continue;
+    }
+    const double run_s = std::chrono::duration<double>(now - slots[i].start).count();
+    const Progress p = read_progress(j.dir);
+    const double frac = j.end_stroke > 0 ? std::min(1.0, p.stroke / j.end_stroke) : 0.0;
+    std::printf("  running %s: ", j.label.c_str());
+    if (!p.started) {
+      std::printf("starting, %.0f s\n", run_s);
+      continue;
+    }
+    // Steps planned at the case's increment, or more where the run has cut
+    // steps (landings, retries): the count so far over the stroke done.
+    const int steps = frac > 0.02 ? std::max(j.steps, static_cast<int>(std::lround(p.step / frac))) : j.steps;
+    std::printf("step %d of %s%d, stroke %.3f of %.3f mm, %d iterations, %.0f s", p.step,
+                steps > j.steps ? "~" : "", steps, p.stroke, j.end_stroke, p.iterations, run_s);
+    if (frac > 0.02) {
+      const double rest = run_s * (1 - frac) / frac;
+      left += rest, longest = std::max(longest, rest), projected += run_s + rest, ++projections;
+      std::printf(", ~%.0f s left", rest);
+    }
+    std::printf("\n");
+  }
+  const double mean = finished ? finished_time / finished : (projections ? projected / projections : 0.0);
+  if (mean > 0)
+    std::printf("  all: %d of %zu runs done, %.0f s elapsed, ~%.0f s left\n", finished, runs.size(), elapsed,
+                std::max(longest, (left + queued * mean) / std::max(1, workers)));
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const int workers = std::max(1, jobs > 0 ? jobs : static_cast<int>(std::thread::hardware_concurrency()));
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  std::mutex print;  // guards the slots, the runs' results and stdout
+  std::vector<Slot> slots(runs.size());
+  const auto t0 = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  auto work = [&] {
+    for (std::size_t i; (i = next++) < runs.size();) {
+      PoolRun& j = runs[i];
+      fs::create_directories(j.dir);
+      std::string cmd = shell_quote(self) + " run " + shell_quote(j.case_file) + " --out " + shell_quote(j.dir) +
+                        " --quiet";
+      if (!j.formulation.empty()) cmd += " --formulation " + shell_quote(j.formulation);
+      if (!j.variant.empty()) cmd += " --variant " + shell_quote(j.variant);
+      for (const auto& o : j.overrides) cmd += " --set " + shell_quote(o);
+      cmd += " > " + shell_quote(j.dir + "/run.log") + " 2>&1";
+      const auto s0 = Clock::now();
+      {
+        std::lock_guard<std::mutex> lock(print);
+        slots[i].start = s0;
+        slots[i].running = true;
+      }
+      const int status = std::system(cmd.c_str());
+      std::lock_guard<std::mutex> lock(print);
+      j.seconds = std::chrono::duration<double>(Clock::now() - s0).count();
+      j.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      slots[i].ended = true;
+      slots[i].running = false;
+      const int k = ++done;
+      if (!quiet) {
+        std::printf("[%d/%zu] %s: %s in %.1f s (%.0f s elapsed)\n", k, runs.size(), j.label.c_str(),
+                    j.rc == 0 ? "finished" : ("stopped, exit " + std::to_string(j.rc)).c_str(), j.seconds, elapsed());
+        std::fflush(stdout);
+      }
+    }
+  };
+  if (!quiet) std::printf("%zu runs on %d workers\n", runs.size(), workers);
+  std::vector<std::thread> pool;
+  for (int w = 0; w < workers; ++w) pool.emplace_back(work);
+  // Progress of the runs in flight every 10 s.
+  while (done < static_cast<int>(runs.size())) {
+    for (int t = 0; t < 100 && done < static_cast<int>(runs.size()); ++t)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (quiet || done >= static_cast<int>(runs.size())) continue;
+    std::lock_guard<std::mutex> lock(print);
+    print_progress(runs, slots, workers, elapsed());
+  }
+  for (auto& t : pool) t.join();
+}
+
+}  // namespace rpfem

@@ -1,0 +1,29 @@
+// Independent `rpfem run` subprocesses of this executable on a pool of
+// workers (`rpfem suite`, `rpfem sweep`), each into its own folder with its
+// log in DIR/run.log; unless quiet, a line per finished run and, every
+// 10 s, each running run's step, stroke and iterations (from its
+// history.csv) and the pool's estimated time left.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace rpfem {
+
+struct PoolRun {
+  std::string label;      // how progress lines name the run
+  std::string case_name;  // the scene (the case file's name)
+  std::string case_file, formulation, variant, dir;
+  std::vector<std::string> overrides;  // --set, in order
+  double end_stroke = 0;  // mm, for progress
+  int steps = 0;          // steps planned at the case's stroke increment
+  // Filled by run_pool:
+  int rc = -1;            // the run's exit code (-1: killed by a signal)
+  double seconds = 0;     // wall time
+};
+
+void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet);
+
+// A word quoted for /bin/sh.
+std::string shell_quote(const std::string& s);
+
+}  // namespace rpfem
