@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -13,6 +14,43 @@ const std::vector<double>& History::at(const std::string& col) const {
   auto it = data.find(col);
   if (it == data.end()) throw std::runtime_error("history.csv has no column '" + col + "'");
   return it->second;
+}
+
+namespace {
+
+// The text after "key": in summary.json, or npos.
+std::size_t summary_value_at(const std::string& text, const std::string& key) {
+  const auto k = text.find("\"" + key + "\"");
+  if (k == std::string::npos) return k;
+  const auto colon = text.find(':', k);
+  return colon == std::string::npos ? colon : text.find_first_not_of(" \t\n", colon + 1);
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+std::optional<std::string> summary_string(const std::string& run_dir, const std::string& key) {
+  const std::string s = read_text(run_dir + "/summary.json");
+  const auto v = summary_value_at(s, key);
+  if (v == std::string::npos || s[v] != '"') return std::nullopt;
+  std::string out;
+  for (std::size_t i = v + 1; i < s.size() && s[i] != '"'; ++i) out += s[i] == '\\' && i + 1 < s.size() ? s[++i] : s[i];
+  return out;
+}
+
+std::optional<double> summary_number(const std::string& run_dir, const std::string& key) {
+  const std::string s = read_text(run_dir + "/summary.json");
+  const auto v = summary_value_at(s, key);
+  if (v == std::string::npos) return std::nullopt;
+  char* end = nullptr;
+  const double x = std::strtod(s.c_str() + v, &end);
+  return end == s.c_str() + v ? std::nullopt : std::optional<double>(x);
 }
 
 History read_history(const std::string& csv_path) {

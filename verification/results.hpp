@@ -1,6 +1,7 @@
 // Reading a run's results back: history.csv columns and result.h5 datasets.
 #pragma once
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,12 @@ struct History {
   std::size_t rows() const { return data.empty() ? 0 : data.begin()->second.size(); }
 };
 History read_history(const std::string& csv_path);
+
+// A value of the run's summary.json by its key (the first occurrence of
+// "key": in the text; the top-level keys status, reason, wall_time_s,
+// time_per_step_s are unique), or nothing if absent or unreadable.
+std::optional<std::string> summary_string(const std::string& run_dir, const std::string& key);
+std::optional<double> summary_number(const std::string& run_dir, const std::string& key);
 
 // A dataset of result.h5 as doubles (row-major), with its shape.
 std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset,

@@ -49,16 +49,7 @@ std::string run_dir(const std::string& suite, const std::string& scene, const st
   return suite + "/" + scene + "/" + f + (variant.empty() ? "" : "/" + variant);
 }
 
-bool finished(const std::string& dir) {
-  std::ifstream in(dir + "/summary.json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string s = ss.str();
-  const auto k = s.find("\"status\"");
-  if (k == std::string::npos) return false;
-  const auto q1 = s.find('"', s.find(':', k)), q2 = s.find('"', q1 + 1);
-  return q1 != std::string::npos && q2 != std::string::npos && s.substr(q1 + 1, q2 - q1 - 1) == "finished";
-}
+bool finished(const std::string& dir) { return summary_string(dir, "status").value_or("") == "finished"; }
 
 // The largest value (a non-finite one counts as infinite: it fails any check).
 double largest(const std::vector<double>& v) {

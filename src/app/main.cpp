@@ -5,6 +5,7 @@
 
 #include "app/run_command.hpp"
 #include "app/suite_command.hpp"
+#include "app/sweep_command.hpp"
 #include "app/verify_command.hpp"
 #include "core/types.hpp"
 #include "core/version.hpp"
@@ -44,6 +45,18 @@ int main(int argc, char** argv) {
   suite_cmd->add_flag("--quick", suite.quick, "coarse meshes: half the divisions of every mesh (run.mesh_factor = 0.5)");
   suite_cmd->add_flag("--quiet,-q", suite.quiet, "no progress output");
 
+  rpfem::SweepOptions sweep;
+  sweep.cases_dir = suite.cases_dir;
+  sweep.out_dir = "sweep_out";
+  auto* sweep_cmd = app.add_subcommand("sweep", "Run one scene over a study's grid of numerical parameters; one table");
+  sweep_cmd->add_option("study", sweep.study_file, "study file (TOML, e.g. cases/studies/*.toml)")->required();
+  sweep_cmd->add_option("--out,-o", sweep.out_dir, "output folder")->capture_default_str();
+  sweep_cmd->add_option("--cases", sweep.cases_dir, "folder of the scenes a study names")->capture_default_str();
+  sweep_cmd->add_option("--set,-s", sweep.overrides, "override a case value in every run: key.path=value");
+  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "runs in parallel (default: the machine's cores)");
+  sweep_cmd->add_flag("--quick", sweep.quick, "the study's reduced grid (its axes' quick values and quick_set)");
+  sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "no progress output");
+
   std::string verify_dir, checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
   bool verify_quiet = false;
   auto* verify_cmd = app.add_subcommand("verify", "Evaluate the acceptance checks on a suite folder");
@@ -59,6 +72,7 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) return rpfem::run_command(run);
     if (*suite_cmd) return rpfem::suite_command(suite);
+    if (*sweep_cmd) return rpfem::sweep_command(sweep);
     if (*verify_cmd) return rpfem::verify_command(verify_dir, checks_file, verify_quiet);
   } catch (const rpfem::InputError& e) {
     std::fprintf(stderr, "rpfem: error: %s\n", e.what());

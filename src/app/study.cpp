@@ -1,0 +1,102 @@
+#include "app/study.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/types.hpp"
+#include "factory.hpp"
+#include "io/case_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace rpfem {
+
+namespace {
+
+std::string toml_number(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  std::string s = buf;
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // a TOML float
+  return s;
+}
+
+std::vector<std::string> optional_texts(CaseSection& s, const std::string& key, const std::string& what) {
+  return s.has(key) ? s.text_array(key, what) : std::vector<std::string>{};
+}
+
+void check_formulation(const CaseSection& s, const std::string& key, const std::string& name) {
+  std::string known;
+  for (const auto& f : formulations()) {
+    if (f.name == name) return;
+    known += (known.empty() ? "" : ", ") + f.name;
+  }
+  s.fail(key, "a formulation (" + known + "), got '" + name + "'");
+}
+
+}  // namespace
+
+Study read_study(const std::string& path, const std::string& cases_dir, bool quick) {
+  CaseFile file(path);
+  CaseSection root = file.root();
+  CaseSection s = root.required_table("study");
+  Study st;
+  st.file = path;
+  st.name = s.text("name", fs::path(path).stem().string());
+  st.description = s.text("description", std::string());
+  const std::string c = s.text("case", std::nullopt);
+  st.case_file = c.size() > 5 && c.substr(c.size() - 5) == ".toml"
+                     ? (fs::path(path).parent_path() / c).lexically_normal().string()
+                     : cases_dir + "/" + c + ".toml";
+  if (!fs::is_regular_file(st.case_file)) s.fail("case", "a scene of " + cases_dir + " or a case file, got '" + c + "'");
+  st.formulation = s.text("formulation", std::string());
+  if (!st.formulation.empty()) check_formulation(s, "formulation", st.formulation);
+  st.load = s.text("load", std::nullopt);
+  st.set = optional_texts(s, "set", "overrides key=value");
+  const auto quick_set = optional_texts(s, "quick_set", "overrides key=value under --quick");
+  if (quick) st.set.insert(st.set.end(), quick_set.begin(), quick_set.end());
+  auto axes = s.table_array("axis");
+  if (axes.empty()) s.fail("axis", "at least one [[study.axis]] table");
+  for (auto& a : axes) {
+    StudyAxis ax;
+    ax.key = a.text("key", std::nullopt);
+    const bool has_quick = a.has("quick");
+    if (ax.formulation()) {
+      auto v = a.text_array("values", "formulation names");
+      const auto q = has_quick ? a.text_array("quick", "formulation names under --quick") : v;
+      ax.values = quick ? q : v;
+      for (const auto& f : ax.values) check_formulation(a, "values", f);
+    } else {
+      auto v = a.real_array("values", -1, "the values of " + ax.key);
+      const auto q = has_quick ? a.real_array("quick", -1, "the values of " + ax.key + " under --quick") : v;
+      ax.numbers = quick ? q : v;
+      for (double x : ax.numbers) ax.values.push_back(toml_number(x));
+    }
+    st.axes.push_back(ax);
+  }
+  auto has_axis = [&](const std::string& key) {
+    return std::any_of(st.axes.begin(), st.axes.end(), [&](const StudyAxis& a) { return a.key == key; });
+  };
+  CaseSection r = s.section("reference");
+  st.reference = r.text("kind", std::string("none"), {"none", "formulation", "richardson"});
+  st.from = r.real("from", 0.0, Range::nonnegative(), "mm");
+  if (st.reference == "formulation") {
+    st.reference_formulation = r.text("formulation", std::nullopt);
+    check_formulation(r, "formulation", st.reference_formulation);
+    st.reference_set = optional_texts(r, "set", "overrides of the reference run");
+  } else if (st.reference == "richardson") {
+    st.richardson_axis = r.text("axis", std::nullopt);
+    if (!has_axis(st.richardson_axis)) r.fail("axis", "the key of one of the study's axes");
+  }
+  if (auto w = s.table("window")) {
+    st.window_axis = w->text("axis", std::nullopt);
+    if (!has_axis(st.window_axis)) w->fail("axis", "the key of one of the study's axes");
+    st.window_penetration = w->real("max_penetration_rel", 1e-3, Range::positive());
+    st.window_iterations = w->real("max_iterations", 10.0, Range::positive());
+  }
+  file.finish();
+  return st;
+}
+
+}  // namespace rpfem

@@ -1,0 +1,57 @@
+// A study file (cases/studies/*.toml): one scene run over a grid of
+// numerical parameters by `rpfem sweep`. Keys (defaults in brackets):
+//   [study]
+//   name         [the file's name]
+//   description  [""]
+//   case         a scene of the cases folder ("paper_test2_die") or a case
+//                file path relative to the study file (ending .toml)
+//   formulation  [the case's run.formulation]
+//   load         history column of the load compared, N ("punch.Fy")
+//   set          [[]] overrides of every run and of the reference ("k=v")
+//   quick_set    [[]] further overrides under --quick
+//   [[study.axis]]  one or more; the grid is their product
+//   key          a case key ("formulations.penalty.beta_factor") or
+//                "formulation"
+//   values       numbers (strings for "formulation")
+//   quick        [values] the reduced grid under --quick
+//   [study.reference]  what the load error is measured against
+//   kind         ["none"] "formulation": one more run with `formulation`
+//                and `set` (added to the study's); "richardson": the
+//                estimate from the three finest values of the `axis`
+//                (size h = 1 / value for run.mesh_factor, h = value for any
+//                other key), per combination of the other axes
+//   formulation, set, axis  as above
+//   from         [0] mm: the load error counts strokes from here on
+//   [study.window]  the usable range of one axis (e.g. beta): the runs that
+//   axis         finished with penetration <= max_penetration_rel [1e-3]
+//   max_penetration_rel, max_iterations   and a median over the steps of
+//                at most max_iterations [10] iterations per step
+#pragma once
+#include <string>
+#include <vector>
+
+namespace rpfem {
+
+struct StudyAxis {
+  std::string key;
+  std::vector<std::string> values;  // as written into --set (numbers in TOML syntax)
+  std::vector<double> numbers;      // empty for "formulation"
+  bool formulation() const { return key == "formulation"; }
+};
+
+struct Study {
+  std::string file, name, description, case_file, formulation, load;
+  std::vector<std::string> set;
+  std::vector<StudyAxis> axes;
+  std::string reference = "none", reference_formulation, richardson_axis;
+  std::vector<std::string> reference_set;
+  double from = 0;
+  std::string window_axis;
+  double window_penetration = -1, window_iterations = -1;
+};
+
+// Reads and validates a study; InputError naming the file and key. Under
+// quick the axes hold their quick values and quick_set is appended to set.
+Study read_study(const std::string& path, const std::string& cases_dir, bool quick);
+
+}  // namespace rpfem

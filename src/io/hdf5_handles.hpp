@@ -1,0 +1,51 @@
+// Small RAII and write helpers over HDF5's C API (result files, sweep
+// tables).
+#pragma once
+#include <hdf5.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rpfem::h5 {
+
+inline void check(herr_t s, const std::string& what) {
+  if (s < 0) throw std::runtime_error("HDF5: " + what);
+}
+
+// RAII for hid_t handles.
+struct H {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  H(hid_t i, herr_t (*c)(hid_t), const std::string& what) : id(i), close(c) {
+    if (id < 0) throw std::runtime_error("HDF5: " + what);
+  }
+  ~H() { close(id); }
+  H(const H&) = delete;
+  H& operator=(const H&) = delete;
+};
+
+inline void write_array(hid_t parent, const std::string& name, const void* data, hid_t type, std::vector<hsize_t> dims) {
+  H space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, "dataspace " + name);
+  H set(H5Dcreate2(parent, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+        "create " + name);
+  check(H5Dwrite(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
+}
+
+inline void write_doubles(hid_t parent, const std::string& name, const std::vector<double>& v, hsize_t cols = 1) {
+  std::vector<hsize_t> dims{v.size() / cols};
+  if (cols > 1) dims.push_back(cols);
+  write_array(parent, name, v.data(), H5T_NATIVE_DOUBLE, dims);
+}
+
+inline void set_attr_string(hid_t obj, const std::string& name, const std::string& value) {
+  if (H5Aexists(obj, name.c_str()) > 0) check(H5Adelete(obj, name.c_str()), "delete attribute " + name);
+  H type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+  check(H5Tset_size(type.id, std::max<std::size_t>(value.size(), 1)), "string size");
+  H space(H5Screate(H5S_SCALAR), H5Sclose, "scalar space");
+  H attr(H5Acreate2(obj, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, "attribute " + name);
+  check(H5Awrite(attr.id, type.id, value.c_str()), "write attribute " + name);
+}
+
+}  // namespace rpfem::h5

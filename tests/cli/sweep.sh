@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# `rpfem sweep` end to end on a small study (flat-die upsetting, penalty at
+# three betas against ipopt, two meshes for Richardson's refusal): the table
+# in CSV and HDF5 with a row per run and the measured columns, the usable
+# window in sweep.json; and a bad study file gives exit 2 naming the file
+# and the key.
+set -u
+rpfem=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+cat > "$tmp/study.toml" <<TOML
+[study]
+description = "upsetting, penalty beta"
+case = "upsetting_dies_frictionless_axisym"
+formulation = "penalty"
+load = "top_die.Fy"
+set = ["stepping.end_stroke=0.5", "run.mesh_factor=0.25"]
+[[study.axis]]
+key = "formulations.penalty.beta_factor"
+values = [1e-4, 1.0, 1e4]
+quick = [1e-4, 1.0]
+[study.reference]
+kind = "formulation"
+formulation = "ipopt"
+[study.window]
+axis = "formulations.penalty.beta_factor"
+max_penetration_rel = 1e-3
+TOML
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/out" --jobs 2 --quiet; rc=$?
+check "sweep exits 0" '[ $rc -eq 0 ]'
+csv=$tmp/out/sweep.csv
+check "three rows and a header" '[ "$(wc -l < "$csv")" -eq 4 ]'
+check "measured columns" 'head -1 "$csv" | grep -q "formulations.penalty.beta_factor,exit_code,finished,.*penetration_rel,load_error,.*rcond,wall_time_s"'
+/usr/bin/python3 - "$tmp/out" <<'PY' || fail=1
+import csv, json, sys, h5py
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/sweep.csv")))
+pen = [float(r["penetration_rel"]) for r in rows]
+err = [float(r["load_error"]) for r in rows]
+ok = all(r["finished"] == "1" for r in rows)
+# Penetration and load error fall with beta (the penalty's compliance).
+ok &= pen[0] > 1e2 * pen[1] > 1e4 * pen[2] > 0 and err[0] > err[1] > 0
+ok &= all(float(r["rcond"]) > 0 for r in rows) and float(rows[2]["rcond"]) < float(rows[0]["rcond"])
+with h5py.File(d + "/sweep.h5") as f:
+    ok &= list(f["table/finished"][:]) == [1, 1, 1]
+    ok &= f["table"].attrs["columns"].decode().startswith("run,dir,formulation,")
+w = json.load(open(d + "/sweep.json"))["window"]
+ok &= w["usable"] == [1.0, 1e4] and abs(w["decades"] - 4) < 1e-12
+print("ok   table values (penetration %s, load error %s, window %s)" % (pen, err, w["usable"]) if ok else "FAIL table values")
+sys.exit(0 if ok else 1)
+PY
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/quick" --quick --quiet
+check "--quick takes the quick values" '[ "$(wc -l < "$tmp/quick/sweep.csv")" -eq 3 ]'
+sed 's/^kind = "formulation"/kind = "formulations"/' "$tmp/study.toml" > "$tmp/bad.toml"
+err=$("$rpfem" sweep "$tmp/bad.toml" --out "$tmp/bad" 2>&1); rc=$?
+check "bad kind: exit 2 naming file and key ($err)" '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "bad.toml" && printf "%s" "$err" | grep -q "study.reference.kind"'
+sed 's/^values = \[1e-4, 1.0, 1e4\]/values = [1e-4, 1.0, 1e4]\nvalue = 3/' "$tmp/study.toml" > "$tmp/unknown.toml"
+err=$("$rpfem" sweep "$tmp/unknown.toml" --out "$tmp/bad2" 2>&1); rc=$?
+check "unknown key: exit 2 ($err)" '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.axis"'
+exit $fail

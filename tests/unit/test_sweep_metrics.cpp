@@ -1,0 +1,97 @@
+// What a sweep measures (verification/sweep_metrics.*) and its table
+// (io/table_writer.*): Richardson's estimate on a known expansion, the
+// per-run metrics of a small history, the load error against a reference,
+// and the table read back from CSV and HDF5.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/table_writer.hpp"
+#include "results.hpp"
+#include "sweep_metrics.hpp"
+
+using namespace rpfem;
+
+TEST(Richardson, RecoversOrderAndLimitOfAKnownExpansion) {
+  // f(h) = 10 + 3 h^2, sizes given out of order, a coarser fourth ignored.
+  auto f = [](double h) { return 10 + 3 * h * h; };
+  const Richardson r = richardson({1.0, 0.25, 2.0, 0.5}, {f(1.0), f(0.25), f(2.0) + 1, f(0.5)});
+  ASSERT_TRUE(r.ok) << r.note;
+  EXPECT_NEAR(r.order, 2.0, 1e-12);
+  EXPECT_NEAR(r.extrapolated, 10.0, 1e-12);
+  EXPECT_DOUBLE_EQ(r.ratio, 2.0);
+}
+
+TEST(Richardson, RefusesWhatItCannotEstimate) {
+  EXPECT_FALSE(richardson({1, 0.5}, {1, 2}).ok);                // two values
+  EXPECT_FALSE(richardson({1, 0.5, 0.2}, {3, 2, 1.5}).ok);      // ratios 2 and 2.5
+  EXPECT_FALSE(richardson({1, 0.5, 0.25}, {3, 2, 1}).ok);       // differences not shrinking
+  EXPECT_FALSE(richardson({1, 0.5, 0.25}, {3, 2, 2.5}).ok);     // oscillating
+}
+
+namespace {
+History history(const std::vector<double>& stroke, const std::vector<double>& load,
+                const std::vector<double>& iterations) {
+  History h;
+  h.columns = {"stroke", "F", "newton_iterations", "volume_change", "max_penetration_rel", "tangent_rcond"};
+  h.data["stroke"] = stroke;
+  h.data["F"] = load;
+  h.data["newton_iterations"] = iterations;
+  h.data["volume_change"] = std::vector<double>(stroke.size(), 0.0);
+  h.data["volume_change"].back() = -2e-6;
+  h.data["max_penetration_rel"] = std::vector<double>(stroke.size(), 1e-4);
+  h.data["max_penetration_rel"][1] = 3e-4;
+  h.data["tangent_rcond"] = std::vector<double>(stroke.size(), 1e-6);
+  h.data["tangent_rcond"][2] = -1;                                   // a step that factorized nothing
+  if (stroke.size() > 3) h.data["tangent_rcond"][3] = 2e-9;
+  return h;
+}
+}  // namespace
+
+TEST(SweepMetrics, PerRunValuesFromTheHistory) {
+  const History h = history({0, 1, 2, 3, 4}, {0, -1000, -2000, -3000, -4500}, {30, 4, 9, 5, 20});
+  const RunMetrics m = run_metrics(h, "F");
+  EXPECT_EQ(m.steps, 4);
+  EXPECT_DOUBLE_EQ(m.final_stroke, 4.0);
+  EXPECT_DOUBLE_EQ(m.final_load, 4.5);  // kN
+  EXPECT_DOUBLE_EQ(m.penetration, 3e-4);
+  EXPECT_DOUBLE_EQ(m.volume_error, 2e-6);
+  EXPECT_DOUBLE_EQ(m.iterations_mean, 9.5);   // step 0's cold start left out
+  EXPECT_DOUBLE_EQ(m.iterations_median, 7.0);
+  EXPECT_DOUBLE_EQ(m.iterations_max, 20.0);
+  EXPECT_DOUBLE_EQ(m.rcond, 2e-9);
+}
+
+TEST(SweepMetrics, LoadErrorAgainstAReferenceFromAStroke) {
+  const History ref = history({0, 1, 2, 3, 4}, {0, -1000, -2000, -3000, -4000}, {1, 1, 1, 1, 1});
+  const History run = history({0, 2, 4}, {0, -2100, -4040}, {1, 1, 1});
+  const LoadError all = load_error(run, ref, "F", 0.0), late = load_error(run, ref, "F", 3.0);
+  EXPECT_NEAR(all.largest, 0.05, 1e-12);
+  EXPECT_NEAR(late.largest, 0.01, 1e-12);
+  EXPECT_NEAR(all.final, 0.01, 1e-12);
+}
+
+TEST(TableWriter, CsvAndHdf5HoldTheSameRows) {
+  Table t;
+  t.columns = {"run", "formulation", "beta"};
+  t.add_row({{"run", 0}, {"beta", 1e-2}}, {{"formulation", "penalty"}});
+  t.add_row({{"run", 1}, {"beta", 1e12}}, {{"formulation", "ipopt"}});
+  EXPECT_EQ(t.rows(), 2u);
+  EXPECT_THROW(t.add_row({{"run", 2}, {"beta", NAN}}, {{"formulation", "x"}}), std::logic_error);
+  EXPECT_THROW(t.add_row({{"run", 2}}, {{"formulation", "x"}}), std::logic_error);
+  const auto dir = std::filesystem::temp_directory_path() / "rpfem_table_test";
+  std::filesystem::create_directories(dir);
+  write_table_csv((dir / "t.csv").string(), t);
+  write_table_h5((dir / "t.h5").string(), t, "{\"study\": \"x\"}");
+  std::ifstream in(dir / "t.csv");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_EQ(ss.str(), "run,formulation,beta\n0,penalty,0.01\n1,ipopt,1e+12\n");
+  const auto beta = read_h5_dataset((dir / "t.h5").string(), "/table/beta");
+  ASSERT_EQ(beta.size(), 2u);
+  EXPECT_DOUBLE_EQ(beta[1], 1e12);
+}

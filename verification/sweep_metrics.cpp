@@ -1,0 +1,75 @@
+#include "sweep_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "curve_comparison.hpp"
+
+namespace rpfem {
+
+RunMetrics run_metrics(const History& h, const std::string& load) {
+  RunMetrics m;
+  const std::size_t n = h.rows();
+  if (n == 0) return m;
+  m.steps = static_cast<int>(n) - 1;
+  m.final_stroke = h.at("stroke").back();
+  m.final_load = std::abs(h.at(load).back()) / 1e3;
+  auto has = [&](const std::string& c) { return h.data.count(c) > 0; };
+  if (has("max_penetration_rel"))
+    for (double p : h.at("max_penetration_rel")) m.penetration = std::max(m.penetration, p);
+  for (double dv : h.at("volume_change")) m.volume_error = std::max(m.volume_error, std::abs(dv));
+  std::vector<double> it(h.at("newton_iterations").begin() + 1, h.at("newton_iterations").end());
+  if (!it.empty()) {
+    for (double k : it) m.iterations_mean += k / it.size(), m.iterations_max = std::max(m.iterations_max, k);
+    std::sort(it.begin(), it.end());
+    const std::size_t k = it.size() / 2;
+    m.iterations_median = it.size() % 2 ? it[k] : 0.5 * (it[k - 1] + it[k]);
+  }
+  if (has("tangent_rcond"))
+    for (double r : h.at("tangent_rcond"))
+      if (r > 0) m.rcond = m.rcond < 0 ? r : std::min(m.rcond, r);
+  return m;
+}
+
+LoadError load_error(const History& run, const History& ref, const std::string& load, double from) {
+  LoadError e;
+  if (run.rows() < 2 || ref.rows() < 2) return e;
+  const auto& s = run.at("stroke");
+  const CurveDifference d = curve_difference(s, run.at(load), ref.at("stroke"), ref.at(load), from, 0.0);
+  if (d.points > 0) e.largest = d.worst;
+  const CurveDifference last = curve_difference({s.back()}, {run.at(load).back()}, ref.at("stroke"), ref.at(load),
+                                                0.0, 0.0);
+  if (last.points > 0) e.final = last.worst;
+  return e;
+}
+
+Richardson richardson(std::vector<double> h, std::vector<double> f) {
+  Richardson r;
+  if (h.size() != f.size() || h.size() < 3) {
+    r.note = "needs three runs or more";
+    return r;
+  }
+  std::vector<std::size_t> idx(h.size());
+  std::iota(idx.begin(), idx.end(), 0);
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return h[a] < h[b]; });
+  const double h1 = h[idx[0]], h2 = h[idx[1]], h3 = h[idx[2]];
+  const double f1 = f[idx[0]], f2 = f[idx[1]], f3 = f[idx[2]];
+  r.ratio = h2 / h1;
+  if (!(h1 > 0) || std::abs(h3 / h2 / r.ratio - 1) > 1e-6 || !(r.ratio > 1)) {
+    r.note = "the three finest sizes need a constant ratio above 1";
+    return r;
+  }
+  const double d21 = f2 - f1, d32 = f3 - f2;
+  if (d21 == 0 || d32 / d21 <= 1) {
+    r.note = "the differences do not shrink monotonically (not in the asymptotic range)";
+    return r;
+  }
+  r.order = std::log(d32 / d21) / std::log(r.ratio);
+  r.extrapolated = f1 - d21 / (std::pow(r.ratio, r.order) - 1);
+  r.ok = std::isfinite(r.order) && std::isfinite(r.extrapolated);
+  if (!r.ok) r.note = "non-finite estimate";
+  return r;
+}
+
+}  // namespace rpfem
