@@ -28,34 +28,36 @@ int main(int argc, char** argv) {
                       "run a [[variants]] entry of the case (its overrides, then --set's); 'all': each into OUT/NAME");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress output");
 
+  // The options of the commands that run many cases on a worker pool.
+  auto pool_options = [](CLI::App* cmd, auto& o, const std::string& cases_help, const std::string& quick_help) {
+    cmd->add_option("--cases", o.cases_dir, cases_help)->capture_default_str();
+    cmd->add_option("--out,-o", o.out_dir, "output folder")->capture_default_str();
+    cmd->add_option("--set,-s", o.overrides, "override a case value in every run: key.path=value");
+    cmd->add_option("--jobs,-j", o.jobs, "runs in parallel (default: the machine's cores)");
+    cmd->add_flag("--quick", o.quick, quick_help);
+    cmd->add_flag("--quiet,-q", o.quiet, "no progress output");
+  };
+
   rpfem::SuiteOptions suite;
   suite.cases_dir = std::string(RPFEM_SOURCE_DIR) + "/cases";
   suite.out_dir = "out";
+  suite.checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
   auto* suite_cmd = app.add_subcommand("suite", "Run every scene with every formulation that applies, then the report");
-  suite_cmd->add_option("--cases", suite.cases_dir, "folder of case files")->capture_default_str();
-  suite_cmd->add_option("--out,-o", suite.out_dir, "output folder")->capture_default_str();
+  pool_options(suite_cmd, suite, "folder of case files",
+               "coarse meshes: half the divisions of every mesh (run.mesh_factor = 0.5)");
   suite_cmd->add_option("--scene", suite.scenes, "run only these scenes (case file names without .toml)");
   suite_cmd->add_option("--formulation,-f", suite.formulations, "run only these formulations");
-  suite_cmd->add_option("--set,-s", suite.overrides, "override a case value in every run: key.path=value");
-  suite_cmd->add_option("--jobs,-j", suite.jobs, "runs in parallel (default: the machine's cores)");
-  suite.checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
   suite_cmd->add_option("--checks", suite.checks_file, "verification checks (TOML; empty: none)")->capture_default_str();
   suite_cmd->add_flag("!--no-variants", suite.variants, "skip the scenes' [[variants]]");
   suite_cmd->add_flag("!--no-report", suite.report, "skip the report");
-  suite_cmd->add_flag("--quick", suite.quick, "coarse meshes: half the divisions of every mesh (run.mesh_factor = 0.5)");
-  suite_cmd->add_flag("--quiet,-q", suite.quiet, "no progress output");
 
   rpfem::SweepOptions sweep;
   sweep.cases_dir = suite.cases_dir;
   sweep.out_dir = "sweep_out";
   auto* sweep_cmd = app.add_subcommand("sweep", "Run one scene over a study's grid of numerical parameters; one table");
   sweep_cmd->add_option("study", sweep.study_file, "study file (TOML, e.g. cases/studies/*.toml)")->required();
-  sweep_cmd->add_option("--out,-o", sweep.out_dir, "output folder")->capture_default_str();
-  sweep_cmd->add_option("--cases", sweep.cases_dir, "folder of the scenes a study names")->capture_default_str();
-  sweep_cmd->add_option("--set,-s", sweep.overrides, "override a case value in every run: key.path=value");
-  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "runs in parallel (default: the machine's cores)");
-  sweep_cmd->add_flag("--quick", sweep.quick, "the study's reduced grid (its axes' quick values and quick_set)");
-  sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "no progress output");
+  pool_options(sweep_cmd, sweep, "folder of the scenes a study names",
+               "the study's reduced grid (its axes' quick values and quick_set)");
 
   std::string verify_dir, checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
   bool verify_quiet = false;

@@ -86,6 +86,47 @@ History history_or_empty(const std::string& dir) {
 
 double size_of(const std::string& key, double value) { return key == "run.mesh_factor" ? 1.0 / value : value; }
 
+std::size_t axis_index(const Study& st, const std::string& key) {
+  const auto it = std::find_if(st.axes.begin(), st.axes.end(), [&](const StudyAxis& a) { return a.key == key; });
+  return static_cast<std::size_t>(it - st.axes.begin());  // read_study checked the key
+}
+
+template <class T>
+toml::array to_array(const std::vector<T>& v) {
+  toml::array a;
+  for (const auto& x : v) a.push_back(x);
+  return a;
+}
+
+// What the sweep measured of one run.
+struct Outcome {
+  RunMetrics m;
+  LoadError err;
+  bool finished = false;
+  double per_step = -1;  // s, the summary's time per step
+  std::string formulation, reason;
+};
+
+Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
+  Outcome o;
+  const History h = history_or_empty(r.dir);
+  if (h.rows() > 0) o.m = run_metrics(h, st.load);
+  if (ref.rows() > 1 && h.rows() > 1) o.err = load_error(h, ref, st.load, st.from);
+  const auto status = summary_string(r.dir, "status");
+  o.finished = status.value_or("") == "finished" && r.rc == 0;
+  o.reason = status ? summary_string(r.dir, "reason").value_or("") : "no summary.json (exit " + std::to_string(r.rc) + ")";
+  for (char& c : o.reason)
+    if (c == ',' || c == '"' || c == '\n') c = ';';  // one CSV cell
+  o.per_step = summary_number(r.dir, "time_per_step_s").value_or(-1.0);
+  o.formulation = r.formulation.empty() ? summary_string(r.dir, "formulation").value_or("") : r.formulation;
+  return o;
+}
+
+struct RichardsonGroup {
+  std::string label;  // the other axes' values
+  Richardson r;
+};
+
 }  // namespace
 
 int sweep_command(const SweepOptions& opt) {
@@ -113,51 +154,33 @@ int sweep_command(const SweepOptions& opt) {
   for (std::size_t i = 0; i < points.size(); ++i) points[i].run = runs[i];
 
   // Per run: the history's metrics and the summary's status and timing.
-  std::vector<RunMetrics> m(points.size());
-  std::vector<History> h(points.size());
-  std::vector<LoadError> err(points.size());
-  std::vector<bool> finished(points.size());
-  std::vector<double> per_step(points.size(), -1);
-  std::vector<std::string> formulation(points.size()), reason(points.size());
   const History ref = st.reference == "formulation" ? history_or_empty(runs.back().dir) : History{};
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const PoolRun& r = points[i].run;
-    h[i] = history_or_empty(r.dir);
-    if (h[i].rows() > 0) m[i] = run_metrics(h[i], st.load);
-    if (ref.rows() > 1 && h[i].rows() > 1) err[i] = load_error(h[i], ref, st.load, st.from);
-    const auto status = summary_string(r.dir, "status");
-    finished[i] = status.value_or("") == "finished" && r.rc == 0;
-    reason[i] = status ? summary_string(r.dir, "reason").value_or("") : "no summary.json (exit " + std::to_string(r.rc) + ")";
-    for (char& c : reason[i])
-      if (c == ',' || c == '"' || c == '\n') c = ';';  // one CSV cell
-    per_step[i] = summary_number(r.dir, "time_per_step_s").value_or(-1.0);
-    formulation[i] = r.formulation.empty() ? summary_string(r.dir, "formulation").value_or("") : r.formulation;
-  }
+  std::vector<Outcome> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = outcome(points[i].run, st, ref);
 
   // Richardson: per combination of the other axes, along the size axis.
-  toml::array rich;
+  std::vector<RichardsonGroup> rich;
   if (st.reference == "richardson") {
-    const auto ax = static_cast<std::size_t>(
-        std::find_if(st.axes.begin(), st.axes.end(), [&](const StudyAxis& a) { return a.key == st.richardson_axis; }) -
-        st.axes.begin());
+    const std::size_t ax = axis_index(st, st.richardson_axis);
     std::map<std::vector<std::size_t>, std::vector<std::size_t>> groups;
     for (std::size_t i = 0; i < points.size(); ++i) {
       auto key = points[i].index;
       key[ax] = 0;
-      if (finished[i]) groups[key].push_back(i);
+      if (out[i].finished) groups[key].push_back(i);
     }
     for (const auto& [key, members] : groups) {
       std::vector<double> hs, fs;
-      for (std::size_t i : members) hs.push_back(size_of(st.richardson_axis, st.axes[ax].numbers[points[i].index[ax]])), fs.push_back(m[i].final_load);
-      const Richardson r = richardson(hs, fs);
-      std::string label;
+      for (std::size_t i : members) {
+        hs.push_back(size_of(st.richardson_axis, st.axes[ax].numbers[points[i].index[ax]]));
+        fs.push_back(out[i].m.final_load);
+      }
+      RichardsonGroup g{"", richardson(hs, fs)};  // label: the other axes, if any
       for (std::size_t a = 0; a < st.axes.size(); ++a)
-        if (a != ax) label += (label.empty() ? "" : " ") + st.axes[a].key + "=" + st.axes[a].values[key[a]];
-      rich.push_back(toml::table{{"group", label}, {"ok", r.ok}, {"observed_order", r.ok ? r.order : -1.0},
-                                 {"extrapolated_load_kN", r.ok ? r.extrapolated : -1.0}, {"ratio", r.ratio},
-                                 {"note", r.note}});
-      if (!r.ok) continue;
-      for (std::size_t i : members) err[i].final = std::abs(m[i].final_load / r.extrapolated - 1);
+        if (a != ax) g.label += (g.label.empty() ? "" : " ") + st.axes[a].key + "=" + st.axes[a].values[key[a]];
+      if (g.label.empty()) g.label = "(all runs)";
+      if (g.r.ok)
+        for (std::size_t i : members) out[i].err.final = std::abs(out[i].m.final_load / g.r.extrapolated - 1);
+      rich.push_back(g);
     }
   }
 
@@ -168,72 +191,53 @@ int sweep_command(const SweepOptions& opt) {
     if (!a.formulation()) t.columns.push_back(a.key);
   for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "penetration_rel",
                         "load_error", "load_error_final", "volume_error", "iterations_mean", "iterations_median",
-                        "iterations_max",
-                        "rcond", "wall_time_s", "time_per_step_s", "reason"})
+                        "iterations_max", "rcond", "wall_time_s", "time_per_step_s", "reason"})
     t.columns.push_back(c);
   for (std::size_t i = 0; i < points.size(); ++i) {
+    const Outcome& o = out[i];
     std::map<std::string, double> n{{"run", double(i)},
                                     {"exit_code", double(points[i].run.rc)},
-                                    {"finished", finished[i] ? 1.0 : 0.0},
-                                    {"steps", double(m[i].steps)},
-                                    {"final_stroke_mm", m[i].final_stroke},
-                                    {"final_load_kN", m[i].final_load},
-                                    {"penetration_rel", m[i].penetration},
-                                    {"load_error", err[i].largest},
-                                    {"load_error_final", err[i].final},
-                                    {"volume_error", m[i].volume_error},
-                                    {"iterations_mean", m[i].iterations_mean},
-                                    {"iterations_median", m[i].iterations_median},
-                                    {"iterations_max", m[i].iterations_max},
-                                    {"rcond", m[i].rcond},
+                                    {"finished", o.finished ? 1.0 : 0.0},
+                                    {"steps", double(o.m.steps)},
+                                    {"final_stroke_mm", o.m.final_stroke},
+                                    {"final_load_kN", o.m.final_load},
+                                    {"penetration_rel", o.m.penetration},
+                                    {"load_error", o.err.largest},
+                                    {"load_error_final", o.err.final},
+                                    {"volume_error", o.m.volume_error},
+                                    {"iterations_mean", o.m.iterations_mean},
+                                    {"iterations_median", o.m.iterations_median},
+                                    {"iterations_max", o.m.iterations_max},
+                                    {"rcond", o.m.rcond},
                                     {"wall_time_s", points[i].run.seconds},
-                                    {"time_per_step_s", per_step[i]}};
+                                    {"time_per_step_s", o.per_step}};
     for (std::size_t a = 0; a < st.axes.size(); ++a)
       if (!st.axes[a].formulation()) n[st.axes[a].key] = st.axes[a].numbers[points[i].index[a]];
-    std::string f = formulation[i].empty() ? points[i].run.formulation : formulation[i];
-    t.add_row(n, {{"dir", fs::relative(points[i].run.dir, opt.out_dir).string()}, {"formulation", f},
-                  {"reason", reason[i]}});
+    t.add_row(n, {{"dir", fs::relative(points[i].run.dir, opt.out_dir).string()}, {"formulation", o.formulation},
+                  {"reason", o.reason}});
   }
 
-  // The usable window of one axis.
-  toml::table window;
+  // The usable window of one axis: the values whose runs finished within
+  // the penetration and iteration limits.
+  std::vector<double> usable;
   if (!st.window_axis.empty()) {
-    const auto ax = static_cast<std::size_t>(
-        std::find_if(st.axes.begin(), st.axes.end(), [&](const StudyAxis& a) { return a.key == st.window_axis; }) -
-        st.axes.begin());
-    double lo = INFINITY, hi = -INFINITY;
-    toml::array usable;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const bool ok = finished[i] && m[i].penetration >= 0 && m[i].penetration <= st.window_penetration &&
-                      m[i].iterations_median <= st.window_iterations;
-      if (!ok) continue;
-      const double x = st.axes[ax].numbers[points[i].index[ax]];
-      lo = std::min(lo, x), hi = std::max(hi, x);
-      usable.push_back(x);
-    }
-    window = toml::table{{"axis", st.window_axis}, {"max_penetration_rel", st.window_penetration},
-                         {"max_iterations", st.window_iterations}, {"usable", usable}};
-    if (!usable.empty()) {
-      window.insert("from", lo), window.insert("to", hi);
-      if (lo > 0) window.insert("decades", std::log10(hi / lo));
-    }
+    const std::size_t ax = axis_index(st, st.window_axis);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (out[i].finished && out[i].m.penetration >= 0 && out[i].m.penetration <= st.window_penetration &&
+          out[i].m.iterations_median <= st.window_iterations)
+        usable.push_back(st.axes[ax].numbers[points[i].index[ax]]);
   }
+  const auto [lo, hi] = std::minmax_element(usable.begin(), usable.end());
 
-  toml::array axes, overrides, run_list;
-  for (const auto& a : st.axes) {
-    toml::array v;
-    for (const auto& x : a.values) v.push_back(x);
-    axes.push_back(toml::table{{"key", a.key}, {"values", v}});
-  }
-  for (const auto& o : opt.overrides) overrides.push_back(o);
-  for (const auto& p : points) {
-    toml::array ov;
-    for (const auto& o : p.run.overrides) ov.push_back(o);
+  toml::array axes, run_list, rich_list;
+  for (const auto& a : st.axes) axes.push_back(toml::table{{"key", a.key}, {"values", to_array(a.values)}});
+  for (const auto& p : points)
     run_list.push_back(toml::table{{"dir", fs::relative(p.run.dir, opt.out_dir).string()},
-                                   {"formulation", p.run.formulation}, {"overrides", ov}});
-  }
-  toml::array base_set;
-  for (const auto& o : st.set) base_set.push_back(o);
+                                   {"formulation", p.run.formulation}, {"overrides", to_array(p.run.overrides)}});
+  for (const auto& g : rich)
+    rich_list.push_back(toml::table{{"group", g.label}, {"ok", g.r.ok}, {"observed_order", g.r.ok ? g.r.order : -1.0},
+                                    {"extrapolated_load_kN", g.r.ok ? g.r.extrapolated : -1.0},
+                                    {"ratio", g.r.ratio}, {"note", g.r.note}});
   toml::table meta{{"study", st.name},
                    {"study_file", fs::absolute(st.file).string()},
                    {"description", st.description},
@@ -241,42 +245,45 @@ int sweep_command(const SweepOptions& opt) {
                    {"formulation", st.formulation},
                    {"load", st.load},
                    {"quick", opt.quick},
-                   {"set", base_set},
-                   {"command_line_set", overrides},
+                   {"set", to_array(st.set)},
+                   {"command_line_set", to_array(opt.overrides)},
                    {"axes", axes},
                    {"reference", toml::table{{"kind", st.reference}, {"formulation", st.reference_formulation},
                                              {"from_mm", st.from}}},
                    {"runs", run_list},
                    {"version", kVersion},
                    {"wall_time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
-  if (!rich.empty()) meta.insert("richardson", rich);
-  if (!window.empty()) meta.insert("window", window);
+  if (!rich.empty()) meta.insert("richardson", rich_list);
+  if (!st.window_axis.empty()) {
+    toml::table w{{"axis", st.window_axis}, {"max_penetration_rel", st.window_penetration},
+                  {"max_iterations", st.window_iterations}, {"usable", to_array(usable)}};
+    if (!usable.empty()) {
+      w.insert("from", *lo), w.insert("to", *hi);
+      if (*lo > 0) w.insert("decades", std::log10(*hi / *lo));
+    }
+    meta.insert("window", w);
+  }
   std::ostringstream js;
   js << toml::json_formatter{meta} << "\n";
   write_table_csv(opt.out_dir + "/sweep.csv", t);
   write_table_h5(opt.out_dir + "/sweep.h5", t, js.str());
   write_text_atomically(opt.out_dir + "/sweep.json", js.str());
 
-  int stopped = 0;
-  for (bool f : finished) stopped += f ? 0 : 1;
+  const auto stopped = std::count_if(out.begin(), out.end(), [](const Outcome& o) { return !o.finished; });
   if (!opt.quiet) {
-    std::printf("%s: %zu runs, %d stopped; table %s/sweep.csv\n", st.name.c_str(), points.size(), stopped,
-                opt.out_dir.c_str());
-    for (auto&& r : rich)
-      if (const auto* g = r.as_table())
-        std::printf("  Richardson %s: %s\n", (*g)["group"].value_or(std::string()).c_str(),
-                    (*g)["ok"].value_or(false)
-                        ? ("observed order " + std::to_string((*g)["observed_order"].value_or(0.0)) +
-                           ", extrapolated load " + std::to_string((*g)["extrapolated_load_kN"].value_or(0.0)) + " kN")
-                              .c_str()
-                        : (*g)["note"].value_or(std::string()).c_str());
-    if (!window.empty()) {
-      if (window.contains("from"))
-        std::printf("  usable %s: %g to %g (%.1f decades)\n", st.window_axis.c_str(), window["from"].value_or(0.0),
-                    window["to"].value_or(0.0), window["decades"].value_or(0.0));
+    std::printf("%s: %zu runs, %ld stopped; table %s/sweep.csv\n", st.name.c_str(), points.size(),
+                static_cast<long>(stopped), opt.out_dir.c_str());
+    for (const auto& g : rich) {
+      if (g.r.ok)
+        std::printf("  Richardson %s: observed order %.3f, extrapolated load %.6g kN\n", g.label.c_str(), g.r.order,
+                    g.r.extrapolated);
       else
-        std::printf("  usable %s: none of the values\n", st.window_axis.c_str());
+        std::printf("  Richardson %s: %s\n", g.label.c_str(), g.r.note.c_str());
     }
+    if (!st.window_axis.empty() && usable.empty()) std::printf("  usable %s: none of the values\n", st.window_axis.c_str());
+    if (!usable.empty())
+      std::printf("  usable %s: %g to %g (%.1f decades)\n", st.window_axis.c_str(), *lo, *hi,
+                  *lo > 0 ? std::log10(*hi / *lo) : 0.0);
   }
   return stopped ? 3 : 0;
 }

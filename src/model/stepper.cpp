@@ -169,7 +169,7 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.contact_passes = sol.passes;
   r.residual = sol.residual;
   r.tangent_rcond = std::isfinite(sol.rcond) ? sol.rcond : -1.0;
-  out_.min_tangent_rcond = std::min(out_.min_tangent_rcond, r.tangent_rcond < 0 ? INFINITY : r.tangent_rcond);
+  out_.min_tangent_rcond = std::min(out_.min_tangent_rcond, sol.rcond);
   r.x = st.x;
   r.v = sol.v;
   const Index ne = scene_.mesh.num_elements();
