@@ -14,6 +14,7 @@
 
 #include <toml++/toml.h>
 
+#include "app/subprocess.hpp"
 #include "app/variants.hpp"
 #include "app/verify_command.hpp"
 #include "core/types.hpp"
@@ -37,12 +38,6 @@ struct Job {
   double seconds = 0;
   std::chrono::steady_clock::time_point start;
 };
-
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
 
 // The formulations that treat every contact of the scene.
 std::vector<std::string> applicable(const Scene& scene) {
@@ -197,7 +192,7 @@ int suite_command(const SuiteOptions& options) {
   fs::create_directories(opt.out_dir);
   std::vector<Job> jobs = plan(opt);
   if (jobs.empty()) throw InputError(opt.cases_dir + ": no scene and formulation matched");
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const std::string self = self_executable();
   const int workers = std::max(1, opt.jobs > 0 ? opt.jobs : static_cast<int>(std::thread::hardware_concurrency()));
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
@@ -220,10 +215,10 @@ int suite_command(const SuiteOptions& options) {
         j.start = s0;
         running[i] = 1;
       }
-      const int status = std::system(cmd.c_str());
+      const int rc = run_shell(cmd);
       std::lock_guard<std::mutex> lock(print);
       j.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
-      j.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      j.rc = rc;
       j.ended = true;
       const int k = ++done;
       running[i] = 0;
