@@ -6,9 +6,7 @@
 
 namespace rpfem {
 
-namespace {
-
-double interpolate(const std::vector<double>& s, const std::vector<double>& F, double x) {
+double interpolate_linear(const std::vector<double>& s, const std::vector<double>& F, double x) {
   const auto it = std::upper_bound(s.begin(), s.end(), x);
   if (it == s.begin()) return F.front();
   if (it == s.end()) return F.back();
@@ -16,8 +14,6 @@ double interpolate(const std::vector<double>& s, const std::vector<double>& F, d
   const double t = (s[j] > s[j - 1]) ? (x - s[j - 1]) / (s[j] - s[j - 1]) : 1.0;
   return F[j - 1] + t * (F[j] - F[j - 1]);
 }
-
-}  // namespace
 
 CurveDifference curve_difference(const std::vector<double>& stroke_a, const std::vector<double>& load_a,
                                  const std::vector<double>& stroke_b, const std::vector<double>& load_b,
@@ -31,11 +27,11 @@ CurveDifference curve_difference(const std::vector<double>& stroke_a, const std:
     const double s = stroke_a[i];
     if (s < from || s > stroke_b.back() + 1e-12) continue;
     const double lo_s = s - stroke_tolerance, hi_s = s + stroke_tolerance;
-    double lo = std::min(interpolate(stroke_b, load_b, lo_s), interpolate(stroke_b, load_b, hi_s));
-    double hi = std::max(interpolate(stroke_b, load_b, lo_s), interpolate(stroke_b, load_b, hi_s));
+    double lo = std::min(interpolate_linear(stroke_b, load_b, lo_s), interpolate_linear(stroke_b, load_b, hi_s));
+    double hi = std::max(interpolate_linear(stroke_b, load_b, lo_s), interpolate_linear(stroke_b, load_b, hi_s));
     for (std::size_t j = 0; j < stroke_b.size(); ++j)
       if (stroke_b[j] > lo_s && stroke_b[j] < hi_s) lo = std::min(lo, load_b[j]), hi = std::max(hi, load_b[j]);
-    const double F = load_a[i], ref = std::abs(interpolate(stroke_b, load_b, s));
+    const double F = load_a[i], ref = std::abs(interpolate_linear(stroke_b, load_b, s));
     const double d = F < lo ? lo - F : F > hi ? F - hi : 0.0;
     const double rel = ref > 0 ? d / ref : (d > 0 ? INFINITY : 0.0);
     if (rel > out.worst || out.points == 0) out.worst = std::max(out.worst, rel), out.at_stroke = s;

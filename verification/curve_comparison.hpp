@@ -5,6 +5,10 @@
 
 namespace rpfem {
 
+// F at x on the piecewise linear curve (s, F), s non-decreasing; the end
+// values beyond its ends.
+double interpolate_linear(const std::vector<double>& s, const std::vector<double>& F, double x);
+
 struct CurveDifference {
   double worst = 0;      // largest relative difference found
   double at_stroke = 0;  // mm, where

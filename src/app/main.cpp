@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "app/calibrate_command.hpp"
 #include "app/run_command.hpp"
 #include "app/suite_command.hpp"
 #include "app/sweep_command.hpp"
@@ -66,6 +67,37 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--checks", checks_file, "checks file (TOML)")->capture_default_str();
   verify_cmd->add_flag("--quiet,-q", verify_quiet, "no table");
 
+  rpfem::CalibrateOptions cal;
+  auto* cal_cmd = app.add_subcommand(
+      "calibrate", "Identify a case value from a target curve, or (--auto-beta) the smallest penalty; NLopt, "
+                   "one run per evaluation in OUT/evals (docs/calibrate.md)");
+  cal_cmd->add_option("case", cal.case_file, "case file (TOML)")->required();
+  cal_cmd->add_option("--out,-o", cal.out_dir, "output folder (created)")->required();
+  cal_cmd->add_option("--formulation,-f", cal.formulation, "contact formulation of every run");
+  cal_cmd->add_option("--set,-s", cal.overrides, "override a case value in every run: key.path=value");
+  auto* target_opt = cal_cmd->add_option(
+      "--target", cal.target,
+      "target CSV: 'stroke_mm,load_kN' (load-stroke) or 'reduction_percent,inner_diameter_change_percent' (ring)");
+  auto* param_opt = cal_cmd->add_option("--param", cal.param, "the case key to identify, e.g. dies.top_die.friction.m");
+  cal_cmd->add_option("--load", cal.load_column,
+                      "history column compared with a load-stroke target (default: the stepping reference's Fy)");
+  cal_cmd->add_option("--monitor", cal.monitor, "history column compared with a ring target")->capture_default_str();
+  cal_cmd->add_option("--height", cal.height,
+                      "mm: the modelled height for a ring target's reduction = 100 stroke / height (default: the "
+                      "initial mesh's height)");
+  auto* beta_opt = cal_cmd->add_option("--auto-beta", cal.auto_beta,
+                                       "find the smallest formulations.penalty.beta_factor with max "
+                                       "max_penetration_rel <= TOL");
+  beta_opt->excludes(target_opt)->excludes(param_opt);
+  cal_cmd->add_option("--bounds", cal.bounds, "LO,HI of the value (--auto-beta: of beta_factor, default 1e-6,1e6)")
+      ->delimiter(',')
+      ->expected(2);
+  cal_cmd->add_option("--x0", cal.x0, "starting value (default: the case's, else mid-bounds)");
+  cal_cmd->add_option("--xtol", cal.xtol, "absolute tolerance on the value (default 1e-4; --auto-beta: on log10 "
+                                          "beta_factor, default 0.01)");
+  cal_cmd->add_option("--max-evals", cal.max_evals, "NLopt's evaluation limit")->capture_default_str();
+  cal_cmd->add_flag("--quiet,-q", cal.quiet, "no progress output");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -75,6 +107,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return rpfem::run_command(run);
     if (*suite_cmd) return rpfem::suite_command(suite);
     if (*sweep_cmd) return rpfem::sweep_command(sweep);
+    if (*cal_cmd) return rpfem::calibrate_command(cal);
     if (*verify_cmd) return rpfem::verify_command(verify_dir, checks_file, verify_quiet);
   } catch (const rpfem::InputError& e) {
     std::fprintf(stderr, "rpfem: error: %s\n", e.what());

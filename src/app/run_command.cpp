@@ -4,13 +4,11 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/case_setup.hpp"
 #include "app/run_observer.hpp"
 #include "app/variants.hpp"
 #include "core/version.hpp"
-#include "factory.hpp"
 #include "io/case_file.hpp"
-#include "io/monitors.hpp"
-#include "io/scene_reader.hpp"
 #include "mesh/quality.hpp"
 
 namespace rpfem {
@@ -22,13 +20,11 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
   std::vector<std::string> overrides;
   if (variant) overrides = variant->set;
   overrides.insert(overrides.end(), opt.overrides.begin(), opt.overrides.end());
-  CaseFile file(opt.case_file, overrides);
-  read_variants(file.root());  // validated, and known to finish()
-  Scene scene = read_scene(file);
-  const std::vector<Monitor> monitors = read_monitors(file.root(), scene.mesh);
-  const std::string fname = opt.formulation.empty() ? scene.formulation : opt.formulation;
-  auto contact = make_formulation(fname, file, scene);
-  file.finish();
+  PreparedCase prepared = prepare_case(opt.case_file, overrides, opt.formulation);
+  const CaseFile& file = *prepared.file;
+  Scene& scene = *prepared.scene;
+  const std::vector<Monitor>& monitors = prepared.monitors;
+  ContactFormulation* contact = prepared.contact.get();
 
   const MeshQuality q = mesh_quality(scene.mesh);
   toml::table summary{{"case", scene.name},

@@ -1,7 +1,5 @@
 #include "app/run_pool.hpp"
 
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -14,15 +12,11 @@
 #include <sstream>
 #include <thread>
 
+#include "app/subprocess.hpp"
+
 namespace fs = std::filesystem;
 
 namespace rpfem {
-
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
 
 namespace {
 
@@ -116,7 +110,7 @@ void print_progress(const std::vector<PoolRun>& runs, const std::vector<Slot>& s
 }  // namespace
 
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const std::string self = self_executable();
   const int workers = std::max(1, jobs > 0 ? jobs : static_cast<int>(std::thread::hardware_concurrency()));
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
@@ -140,10 +134,10 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
         slots[i].start = s0;
         slots[i].running = true;
       }
-      const int status = std::system(cmd.c_str());
+      const int rc = run_shell(cmd);
       std::lock_guard<std::mutex> lock(print);
       j.seconds = std::chrono::duration<double>(Clock::now() - s0).count();
-      j.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      j.rc = rc;
       slots[i].ended = true;
       slots[i].running = false;
       const int k = ++done;

@@ -23,7 +23,4 @@ struct PoolRun {
 
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet);
 
-// A word quoted for /bin/sh.
-std::string shell_quote(const std::string& s);
-
 }  // namespace rpfem

@@ -11,6 +11,7 @@
 #include <toml++/toml.h>
 
 #include "app/run_pool.hpp"
+#include "app/subprocess.hpp"
 #include "app/variants.hpp"
 #include "app/verify_command.hpp"
 #include "core/types.hpp"

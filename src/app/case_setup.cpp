@@ -1,0 +1,21 @@
+#include "app/case_setup.hpp"
+
+#include "app/variants.hpp"
+#include "factory.hpp"
+#include "io/scene_reader.hpp"
+
+namespace rpfem {
+
+PreparedCase prepare_case(const std::string& case_file, const std::vector<std::string>& overrides,
+                          const std::string& formulation) {
+  PreparedCase c;
+  c.file = std::make_unique<CaseFile>(case_file, overrides);
+  read_variants(c.file->root());  // validated, and known to finish()
+  c.scene = std::make_unique<Scene>(read_scene(*c.file));
+  c.monitors = read_monitors(c.file->root(), c.scene->mesh);
+  c.contact = make_formulation(formulation.empty() ? c.scene->formulation : formulation, *c.file, *c.scene);
+  c.file->finish();
+  return c;
+}
+
+}  // namespace rpfem
