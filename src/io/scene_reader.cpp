@@ -258,6 +258,7 @@ Scene read_scene(CaseFile& file) {
   nw.max_iterations = solver.integer("max_iterations", nw.max_iterations, 1, 10000);
   nw.direct_iterations = solver.integer("direct_iterations", nw.direct_iterations, 0, 100);
   nw.max_halvings = solver.integer("line_search_halvings", nw.max_halvings, 0, 60);
+  nw.secant_after_cut = solver.flag("secant_after_cut", nw.secant_after_cut);
   const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "umfpack"});
   sc.solver.linear_solver = ls == "cholmod" ? LinearSolverChoice::Cholmod
                             : ls == "umfpack" ? LinearSolverChoice::Umfpack : LinearSolverChoice::Auto;

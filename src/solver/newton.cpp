@@ -26,6 +26,8 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
   if (!(scale > 0) || !std::isfinite(scale)) scale = 1.0;
   // An anchored merit is evaluated after anchoring, at each line search.
   double energy = sys.energy && !sys.anchor ? sys.energy(u) : 0.0;
+  double last_full = -1;  // |du| / |u| of the previous full Newton step; -1: none
+  bool cut = false;       // the previous line search cut the step
   for (int it = 1; it <= s.max_iterations; ++it) {
     out.iterations = it;
     const double rnorm = R.norm();
@@ -33,7 +35,8 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
       out.reason = "residual is not finite";
       return out;
     }
-    if (!sys.solve(u, it > s.direct_iterations, R, du)) {
+    const bool secant = it <= s.direct_iterations || (s.secant_after_cut && cut);
+    if (!sys.solve(u, !secant, R, du)) {
       out.reason = "tangent matrix is singular";
       return out;
     }
@@ -79,6 +82,7 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
         return out;
       }
     }
+    cut = step < 1.0;
     u = trial;
     R = Rtrial;
     if (trial_scale > 0 && std::isfinite(trial_scale)) scale = trial_scale;
@@ -86,7 +90,15 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
     else if (sys.energy && !sys.anchor) energy = sys.energy(u);
     out.correction = step * du.norm() / std::max(u.norm(), 1e-300);
     out.residual = R.norm() / scale;
-    if (it > s.direct_iterations && out.correction <= s.tol_velocity && out.residual <= s.tol_force) {
+    // The error left in u: the next correction, theta times this one for a
+    // contraction theta of two full Newton steps (a linear bound; the
+    // quadratic rate makes it smaller), else this correction.
+    const bool full_newton = !secant && !cut;
+    double error = out.correction;
+    if (full_newton && last_full > 0 && newton_correction < 0.5 * last_full)
+      error = std::min(error, newton_correction / last_full * out.correction);
+    last_full = full_newton ? newton_correction : -1;
+    if (it > s.direct_iterations && error <= s.tol_velocity && out.residual <= s.tol_force) {
       out.converged = true;
       return out;
     }

@@ -4,13 +4,20 @@
 //
 // Iteration k solves K du = -R. The first `direct_iterations` use the secant
 // matrix (direct iteration, Kobayashi, Oh, Altan 1989, sec. 6.6) so Newton
-// starts from a usable field. The step length s halves until
+// starts from a usable field; so does the iteration after one whose line
+// search had to cut the step (`secant_after_cut`): far from the solution the
+// consistent tangent of a rigid-plastic functional is nearly singular along
+// the plastic flow (sigma_y epsdot is homogeneous of degree 1 in epsdot) and
+// its steps overshoot many times over. The step length s halves until
 //   Pi(u + s du) <= Pi(u) + c s R.du   (Armijo, when a potential or an
 //                                       anchored merit exists and R.du < 0;
 //                                       within round-off of Pi(u), a drop of
 //                                       |R| is accepted instead), or
 //   |R(u + s du)| <= (1 - c s) |R(u)|   (otherwise).
-// Converged when |du| <= tol_velocity |u| and |R| <= tol_force F_scale.
+// Converged when |R| <= tol_force F_scale and the error left in u is at most
+// tol_velocity |u|: that error is the next correction, estimated as theta
+// |du| from the contraction theta = |du_k| / |du_k-1| < 1/2 of two
+// successive full Newton steps (Deuflhard 2004, sec. 2.1), else |du| itself.
 #pragma once
 #include <functional>
 #include <string>
@@ -23,7 +30,8 @@ struct NewtonSettings {
   double tol_velocity = 1e-8;
   double tol_force = 1e-7;
   int max_iterations = 40;
-  int direct_iterations = 1;
+  int direct_iterations = 1;      // at the start of each solve
+  bool secant_after_cut = true;   // a secant iteration after a cut line search
   double armijo = 1e-4;
   int max_halvings = 12;
 };
