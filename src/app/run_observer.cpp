@@ -72,7 +72,7 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
     cols.push_back(n + ".Fx");
     cols.push_back(n + ".Fy");
   }
-  for (const auto& c : {"newton_iterations", "contact_passes", "residual", "tangent_rcond", "volume", "volume_change", "dt", "cuts",
+  for (const auto& c : {"newton_iterations", "contact_passes", "solves", "residual", "tangent_rcond", "volume", "volume_change", "dt", "cuts",
                         "min_scaled_jacobian", "rigid_points"})
     cols.push_back(c);
   for (const auto& n : report_names) cols.push_back(n);
@@ -93,7 +93,7 @@ void RunObserver::on_step(const StepRecord& r) {
     row.push_back(l(0));
     row.push_back(l(1));
   }
-  for (double v : {double(r.newton_iterations), double(r.contact_passes), r.residual, r.tangent_rcond, r.volume, dv, r.dt,
+  for (double v : {double(r.newton_iterations), double(r.contact_passes), double(r.solves), r.residual, r.tangent_rcond, r.volume, dv, r.dt,
                    double(r.cuts), r.min_scaled_jacobian, double(r.rigid_points)})
     row.push_back(v);
   row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());

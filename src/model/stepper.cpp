@@ -23,6 +23,7 @@ struct Solution {
   std::vector<ElementPost> post;
   std::vector<double> flow_stress;
   int iterations = 0, passes = 0;
+  int solves = 0;  // Newton (or own) solves: the passes, plus the half step's
   double residual = 0;
   double rcond = INFINITY;  // least condition estimate of the step's factorizations
   std::vector<std::string> events;
@@ -123,6 +124,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     return sol;
   }
   sol.v = std::move(v);
+  sol.solves = sol.passes;
   sol.rcond = ws_.linear.stats().min_rcond;
   // Per element: strain rates for the strain update, recorded fields.
   const Index ne = scene_.mesh.num_elements();
@@ -167,6 +169,7 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.cuts = cuts;
   r.newton_iterations = sol.iterations;
   r.contact_passes = sol.passes;
+  r.solves = sol.solves;
   r.residual = sol.residual;
   r.tangent_rcond = std::isfinite(sol.rcond) ? sol.rcond : -1.0;
   out_.min_tangent_rcond = std::min(out_.min_tangent_rcond, sol.rcond);
@@ -305,6 +308,7 @@ RunOutcome Runner::run() {
         // Contact events found by the half-step solve belong to this step.
         next_sol.events.insert(next_sol.events.begin(), mid.events.begin(), mid.events.end());
         next_sol.iterations += mid.iterations;
+        next_sol.solves += mid.solves;
         break;
       }
       if (cuts == scene_.stepping.max_cuts) {

@@ -24,6 +24,7 @@ struct StepRecord {
   int cuts = 0;                         // halvings needed to reach this step
   int newton_iterations = 0;            // incl. contact re-solves
   int contact_passes = 0;               // solves of this configuration
+  int solves = 0;                       // all solves of the step (midpoint: the half step's too)
   double residual = 0;                  // relative force residual
   double tangent_rcond = -1;            // least condition estimate of the step's
                                         // factorizations (-1: none, e.g. ipopt)
