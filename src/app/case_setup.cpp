@@ -1,7 +1,7 @@
 #include "app/case_setup.hpp"
 
-#include "app/variants.hpp"
 #include "factory.hpp"
+#include "io/variants.hpp"
 #include "io/scene_reader.hpp"
 
 namespace rpfem {
