@@ -18,12 +18,45 @@ const std::vector<double>& History::at(const std::string& col) const {
 
 namespace {
 
-// The text after "key": in summary.json, or npos.
-std::size_t summary_value_at(const std::string& text, const std::string& key) {
-  const auto k = text.find("\"" + key + "\"");
-  if (k == std::string::npos) return k;
-  const auto colon = text.find(':', k);
-  return colon == std::string::npos ? colon : text.find_first_not_of(" \t\n", colon + 1);
+// In the JSON object opening at text[open], the position of the value of
+// its member `key` (not of a nested object's), or npos.
+std::size_t member_value_at(const std::string& text, std::size_t open, const std::string& key) {
+  int depth = 0;
+  for (std::size_t i = open; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"') {
+      std::string name;
+      for (++i; i < text.size() && text[i] != '"'; ++i) name += text[i] == '\\' && i + 1 < text.size() ? text[++i] : text[i];
+      const std::size_t after = text.find_first_not_of(" \t\n", i + 1);
+      if (depth == 1 && name == key && after != std::string::npos && text[after] == ':')
+        return text.find_first_not_of(" \t\n", after + 1);
+    } else if (c == '{' || c == '[') {
+      ++depth;
+    } else if ((c == '}' || c == ']') && --depth == 0) {
+      return std::string::npos;
+    }
+  }
+  return std::string::npos;
+}
+
+// The position of the value at `path` (keys joined by '.') in summary.json's
+// text, or npos.
+std::size_t summary_value_at(const std::string& text, const std::string& path) {
+  std::size_t pos = text.find('{');
+  for (std::size_t a = 0, b; pos != std::string::npos && a <= path.size(); a = b + 1) {
+    b = path.find('.', a);
+    if (b == std::string::npos) b = path.size();
+    if (text[pos] != '{') return std::string::npos;
+    pos = member_value_at(text, pos, path.substr(a, b - a));
+  }
+  return pos;
+}
+
+// The JSON string starting at text[at] ('"'), unescaped.
+std::string json_string(const std::string& text, std::size_t& at) {
+  std::string out;
+  for (++at; at < text.size() && text[at] != '"'; ++at) out += text[at] == '\\' && at + 1 < text.size() ? text[++at] : text[at];
+  return out;
 }
 
 std::string read_text(const std::string& path) {
@@ -37,10 +70,18 @@ std::string read_text(const std::string& path) {
 
 std::optional<std::string> summary_string(const std::string& run_dir, const std::string& key) {
   const std::string s = read_text(run_dir + "/summary.json");
-  const auto v = summary_value_at(s, key);
+  auto v = summary_value_at(s, key);
   if (v == std::string::npos || s[v] != '"') return std::nullopt;
-  std::string out;
-  for (std::size_t i = v + 1; i < s.size() && s[i] != '"'; ++i) out += s[i] == '\\' && i + 1 < s.size() ? s[++i] : s[i];
+  return json_string(s, v);
+}
+
+std::vector<std::string> summary_strings(const std::string& run_dir, const std::string& key) {
+  const std::string s = read_text(run_dir + "/summary.json");
+  std::vector<std::string> out;
+  auto v = summary_value_at(s, key);
+  if (v == std::string::npos || s[v] != '[') return out;
+  for (++v; v < s.size() && s[v] != ']'; ++v)
+    if (s[v] == '"') out.push_back(json_string(s, v));
   return out;
 }
 

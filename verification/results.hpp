@@ -15,11 +15,13 @@ struct History {
 };
 History read_history(const std::string& csv_path);
 
-// A value of the run's summary.json by its key (the first occurrence of
-// "key": in the text; the top-level keys status, reason, wall_time_s,
-// time_per_step_s are unique), or nothing if absent or unreadable.
+// A value of the run's summary.json by its key path (a top-level key, or
+// keys joined by '.': "derived.reference_speed_mm_s"), or nothing if absent,
+// of another type or unreadable.
 std::optional<std::string> summary_string(const std::string& run_dir, const std::string& key);
 std::optional<double> summary_number(const std::string& run_dir, const std::string& key);
+// An array of strings (e.g. "warnings"); empty if absent.
+std::vector<std::string> summary_strings(const std::string& run_dir, const std::string& key);
 
 // A dataset of result.h5 as doubles (row-major), with its shape.
 std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset,

@@ -57,6 +57,8 @@ class IpoptContact final : public ContactFormulation {
   std::vector<std::string> report_names() const override;
   std::vector<double> report() const override;
   std::vector<NamedValue> derived() const override;
+  // At the end of the step (kkt_primal).
+  std::optional<double> max_penetration_rel() const override { return kkt_.primal; }
 
   struct Options {
     double tol = 1e-10;               // Ipopt's tol

@@ -58,6 +58,7 @@ class PenaltyContact final : public ContactFormulation {
   std::vector<std::string> report_names() const override;
   std::vector<double> report() const override;
   std::vector<NamedValue> derived() const override;
+  std::optional<double> max_penetration_rel() const override { return max_penetration_rel_; }
 
   // One [[contact_pairs]] entry.
   struct Interface {

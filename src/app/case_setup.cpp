@@ -1,7 +1,8 @@
 #include "app/case_setup.hpp"
 
-#include "app/variants.hpp"
+#include "expectations.hpp"
 #include "factory.hpp"
+#include "io/variants.hpp"
 #include "io/scene_reader.hpp"
 
 namespace rpfem {
@@ -11,6 +12,7 @@ PreparedCase prepare_case(const std::string& case_file, const std::vector<std::s
   PreparedCase c;
   c.file = std::make_unique<CaseFile>(case_file, overrides);
   read_variants(c.file->root());  // validated, and known to finish()
+  validate_expect_tables(c.file->root(), case_file);  // the same ([expect], checked by verification/)
   c.scene = std::make_unique<Scene>(read_scene(*c.file));
   c.monitors = read_monitors(c.file->root(), c.scene->mesh);
   c.contact = make_formulation(formulation.empty() ? c.scene->formulation : formulation, *c.file, *c.scene);

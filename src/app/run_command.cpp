@@ -6,7 +6,7 @@
 
 #include "app/case_setup.hpp"
 #include "app/run_observer.hpp"
-#include "app/variants.hpp"
+#include "io/variants.hpp"
 #include "core/version.hpp"
 #include "io/case_file.hpp"
 #include "mesh/quality.hpp"
@@ -50,6 +50,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
   RunObserver obs(scene, out_dir, summary, opt.quiet, monitors);
   const RunOutcome out = run_scene(scene, *contact, obs);
   obs.finish(out);
+  for (const auto& w : out.warnings) std::fprintf(stderr, "rpfem: warning: %s\n", w.c_str());
   if (!out.finished) {
     std::fprintf(stderr, "rpfem: run stopped: %s (finished steps saved in %s)\n", out.reason.c_str(),
                  out_dir.c_str());

@@ -158,6 +158,9 @@ std::string RunObserver::finish(const RunOutcome& out) {
                                                           {"factorizations", out.factorizations},
                                                           {"cholesky_fallbacks", out.cholesky_fallbacks}});
   if (std::isfinite(out.min_tangent_rcond)) summary_.insert_or_assign("min_tangent_rcond", out.min_tangent_rcond);
+  toml::array warnings;
+  for (const auto& w : out.warnings) warnings.push_back(w);
+  summary_.insert_or_assign("warnings", warnings);
   write_summary();
   const std::string json = to_json(summary_);
   writer_->update_metadata(json);

@@ -12,7 +12,7 @@
 
 #include "app/run_pool.hpp"
 #include "app/subprocess.hpp"
-#include "app/variants.hpp"
+#include "io/variants.hpp"
 #include "app/verify_command.hpp"
 #include "core/types.hpp"
 #include "factory.hpp"

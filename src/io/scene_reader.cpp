@@ -131,6 +131,8 @@ Scene read_scene(CaseFile& file) {
   sc.formulation = run.text("formulation", "none");
   // Scales every body's division counts (the suite's --quick: 0.5).
   const double mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
+  sc.penetration_tolerance =
+      run.real("penetration_tolerance", 1e-3, Range::positive(), "largest penetration / element size accepted");
 
   CaseSection bodies = root.required_table("bodies");
   if (bodies.keys().empty()) bodies.fail("", "at least one body is required");

@@ -75,7 +75,10 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
       note_rcond(impl_->llt.rcond());
       return true;
     }
-    if (choice_ == LinearSolverChoice::Cholmod) return false;
+    if (choice_ == LinearSolverChoice::Cholmod) {
+      note_rcond(0.0);  // not positive definite: singular as far as Cholesky can tell
+      return false;
+    }
     ++stats_.cholesky_fallbacks;  // indefinite: fall through to LU
     t0 = std::chrono::steady_clock::now();
   }
@@ -90,7 +93,10 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
   stats_.factor_seconds += seconds_since(t0);
   impl_->use_lu = true;
   stats_.last_solver = "umfpack";
-  if (impl_->lu.info() != Eigen::Success) return false;
+  if (impl_->lu.info() != Eigen::Success) {
+    note_rcond(0.0);  // singular
+    return false;
+  }
   note_rcond(impl_->lu.rcond());
   return true;
 }

@@ -4,6 +4,7 @@
 // reused while the sparsity pattern is unchanged.
 #pragma once
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -12,6 +13,14 @@
 namespace rpfem {
 
 enum class LinearSolverChoice { Auto, Cholmod, Umfpack };
+
+// Below this reciprocal condition estimate a tangent is ill-conditioned for
+// double precision: a direct solve's relative error is bounded by about
+// eps / rcond, 1 % at 100 eps (2.2e-14), so a Newton correction keeps at
+// most two correct digits. The estimate is rough (a pivot ratio): a
+// problem can run out of precision above it (its residual's round-off
+// floor above the tolerance, newton.hpp's `stalled`).
+inline constexpr double kIllConditionedRcond = 100 * std::numeric_limits<double>::epsilon();
 
 struct LinearSolveStats {
   int analyses = 0;          // symbolic analyses done
@@ -22,7 +31,8 @@ struct LinearSolveStats {
   // A rough reciprocal condition number of the last factorization, from
   // its factor's diagonal (CHOLMOD's cholmod_rcond: (min L_ii / max L_ii)^2;
   // UMFPACK: min |U_ii| / max |U_ii| with its row scaling undone), and the least
-  // since reset_rcond() (infinity if nothing was factorized since).
+  // since reset_rcond() (infinity if nothing was factorized since; 0 after a
+  // factorization that found the matrix singular).
   double last_rcond = 0, min_rcond = INFINITY;
 };
 

@@ -132,6 +132,10 @@ class ContactFormulation {
   // Values the formulation derived from the scene (defaults it scaled, e.g.
   // a penalty parameter), recorded in the run's summary.
   virtual std::vector<NamedValue> derived() const { return {}; }
+  // Largest penetration of the last solve's configuration over the local
+  // element size (the run warns above run.penetration_tolerance); nullopt
+  // if the formulation measures none (`direct` places its nodes on the dies).
+  virtual std::optional<double> max_penetration_rel() const { return std::nullopt; }
   // Per-step scalars for history.csv (names fixed at start).
   virtual std::vector<std::string> report_names() const { return {}; }
   virtual std::vector<double> report() const { return {}; }

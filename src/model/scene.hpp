@@ -97,6 +97,9 @@ struct Scene {
   SolverSpec solver;
   SteppingSpec stepping;
   std::string formulation = "none";  // default contact formulation of the scene
+  // Largest penetration over the local element size the run accepts
+  // without a warning (run.penetration_tolerance).
+  double penetration_tolerance = 1e-3;
 
   // The largest prescribed speed (dies and velocity groups), mm/s.
   double largest_speed() const {

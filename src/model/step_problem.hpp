@@ -64,6 +64,8 @@ class StepProblem {
   // given rate everywhere (RigidPlasticInput::viscous_floor), the start of
   // the Newton iteration when no previous velocity field exists.
   void viscous_predictor(double rate, Vec& u);
+  double limiting_strain_rate() const { return epsdot_lim_; }
+  void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate; }
 
  private:
   const StepView& view_;

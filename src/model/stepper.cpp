@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "mesh/quality.hpp"
 #include "model/boundary.hpp"
@@ -10,6 +11,45 @@
 namespace rpfem {
 
 namespace {
+
+std::string sci(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", x);
+  return buf;
+}
+
+// What the tangent's condition says about a failed solve: its least
+// estimate, and that double precision ran out when the estimate is below
+// kIllConditionedRcond or Newton stalled at its round-off floor.
+std::string conditioning_note(double rcond, bool stalled) {
+  if (!std::isfinite(rcond)) return "";  // nothing factorized (an own solver, an inversion)
+  if (rcond >= kIllConditionedRcond && !stalled) return " (least tangent rcond " + sci(rcond) + ")";
+  return "; the tangent is ill-conditioned (rcond " + sci(rcond) +
+         (rcond < kIllConditionedRcond ? ", below 100 x machine epsilon" : "") +
+         "): a penalty or stiffness too large for double precision; lower formulations.penalty.beta_factor, "
+         "solver.alpha (or a body's material.alpha) or the stiffness contrast between bodies";
+}
+
+// Rigid zones (solver.limit_strain_rate): below the limiting rate the
+// material is linear-viscous with the viscosity sigma / epsdot_lim, so a
+// small limit makes the functional nearly non-smooth where the flow stops
+// (1e-9 of the reference rate: 1e9 times the plastic viscosity), and
+// Newton's convergence region shrinks with it: it failed at the first
+// solve at 1e-6 on upsetting with m = 1, at 1e-9 on Test II. A failed
+// solve below this limit (relative, the default) is therefore redone from
+// the same start with the limiting rate lowered from it a decade per
+// solve to the scene's, each solve warm-started from the last (as the
+// friction smoothing's continuation, formulations' a): 7 solves of 6 to
+// 15 iterations at 1e-9 on Test II's first step.
+constexpr double kContinuationStart = 1e-3;
+
+// Newton accepts a solve whose correction is at round-off with a residual
+// up to 100 tol_force (solver/newton.cpp). A run with steps solved to more
+// than this factor times tol_force (an order of magnitude above the
+// tolerance asked for) records that its tangent was ill-conditioned:
+// measured, alpha 1e10 leaves 5e-6 to 9e-6 at every step of upsetting,
+// the virtual rigid punch 1.1e-6 at its first solve, 1e-7 at the coarse mesh.
+constexpr double kFloorWarning = 10;
 
 struct State {
   std::vector<Vec2> x;
@@ -26,6 +66,7 @@ struct Solution {
   int solves = 0;  // Newton (or own) solves: the passes, plus the half step's
   double residual = 0;
   double rcond = INFINITY;  // least condition estimate of the step's factorizations
+  bool stalled = false;     // failed: Newton stalled at its round-off floor
   std::vector<std::string> events;
   std::string failure;  // empty when solved
 };
@@ -43,6 +84,13 @@ class Runner {
   // moves: whether it moves them at all (StepView::moves).
   Solution solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from = nullptr,
                  bool moves = true);
+  // One solve of the step's problem from u: the formulation's own solver,
+  // or Newton.
+  NewtonResult solve_once(const StepView& sv, StepProblem& problem, Vec& u);
+  // A failed solve whose limiting strain rate is below kContinuationStart
+  // is redone by continuation (see kContinuationStart).
+  NewtonResult solve_with_continuation(const StepView& sv, StepProblem& problem, Vec& u,
+                                       std::vector<std::string>& events);
   State advance(const State& st, const Solution& sol, double dt) const;
   StepView view(const State& st, int step, double dt) const;
   void record(const State& st, const Solution& sol, int step, double dt, int cuts);
@@ -57,6 +105,13 @@ class Runner {
   std::vector<ElementMaterial> materials_;
   std::vector<double> flow_stress_;
   RunOutcome out_;
+  // For the warnings: where the least rcond was met; the steps solved only
+  // to a round-off floor far above tol_force, and the worst; the steps
+  // whose penetration exceeded the tolerance, and the worst.
+  int min_rcond_step_ = -1, floor_steps_ = 0, worst_floor_step_ = -1;
+  double worst_floor_ = 0;
+  int penetrating_steps_ = 0, worst_penetration_step_ = -1;
+  double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
 };
 
 StepView Runner::view(const State& st, int step, double dt) const {
@@ -83,6 +138,13 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
   contact_.begin_step(sv);
   ws_.linear.reset_rcond();
+  // A failed solve keeps the least condition estimate it met (the stop
+  // reason reports it).
+  auto fail = [&](std::string why) {
+    sol.failure = std::move(why);
+    sol.rcond = ws_.linear.stats().min_rcond;
+    return sol;
+  };
   std::vector<Vec2> v = guess;
   const bool cold = std::all_of(guess.begin(), guess.end(), [](const Vec2& g) { return g.isZero(); });
   constexpr int kMaxPasses = 50;
@@ -92,37 +154,28 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     try {
       problem.set_constraints(cons);
     } catch (const std::invalid_argument& e) {
-      sol.failure = e.what();
-      return sol;
+      return fail(e.what());
     }
     Vec u = problem.dofs().reduce(v);
-    if (cold && sol.passes == 1) problem.viscous_predictor(derived_.reference_strain_rate, u);
-    if (auto own = contact_.solve(sv, problem, u)) {
-      sol.iterations += own->iterations;
-      sol.residual = own->residual;
-      if (!own->converged) {
-        sol.failure = own->reason;
-        return sol;
-      }
-    } else {
-      const NewtonResult r = newton_solve(problem.newton_system(), scene_.solver.newton, u);
-      sol.iterations += r.iterations;
-      sol.residual = r.residual;
-      if (!r.converged) {
-        sol.failure = "Newton: " + r.reason;
-        return sol;
-      }
+    if (cold && sol.passes == 1) {
+      problem.viscous_predictor(derived_.reference_strain_rate, u);
+      // The predictor's linear system is not the step's tangent (without a
+      // formulation's constraints a body may float: ipopt's rows are not
+      // in it): its condition is not recorded.
+      ws_.linear.reset_rcond();
     }
+    const NewtonResult r = solve_with_continuation(sv, problem, u, sol.events);
+    sol.iterations += r.iterations;
+    sol.residual = r.residual;
+    sol.stalled = r.stalled;
+    if (!r.converged) return fail(r.reason);
     problem.dofs().expand(u, v);
     problem.nodal_forces(v, sol.F);
     StepCheck check = contact_.check(sv, v, sol.F);
     sol.events.insert(sol.events.end(), check.events.begin(), check.events.end());
     if (!check.resolve) break;
   }
-  if (sol.passes > kMaxPasses) {
-    sol.failure = "contact state did not settle in " + std::to_string(kMaxPasses) + " passes";
-    return sol;
-  }
+  if (sol.passes > kMaxPasses) return fail("contact state did not settle in " + std::to_string(kMaxPasses) + " passes");
   sol.v = std::move(v);
   sol.solves = sol.passes;
   sol.rcond = ws_.linear.stats().min_rcond;
@@ -142,12 +195,51 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     const double lim = derived_.limiting_strain_rate;
     sol.flow_stress[e] = flow_point(*in.law, mean_strain, std::max(sol.post[e].strain_rate_mean, lim), lim).sigma;
     for (double r : sol.rate[e])
-      if (!std::isfinite(r)) {
-        sol.failure = "non-finite strain rate";
-        return sol;
-      }
+      if (!std::isfinite(r)) return fail("non-finite strain rate");
   }
   return sol;
+}
+
+NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u) {
+  if (auto own = contact_.solve(sv, problem, u)) {
+    NewtonResult r;
+    r.converged = own->converged;
+    r.iterations = own->iterations;
+    r.residual = own->residual;
+    r.reason = own->reason;
+    return r;
+  }
+  NewtonResult r = newton_solve(problem.newton_system(), scene_.solver.newton, u);
+  if (!r.converged) r.reason = "Newton: " + r.reason;
+  return r;
+}
+
+NewtonResult Runner::solve_with_continuation(const StepView& sv, StepProblem& problem, Vec& u,
+                                             std::vector<std::string>& events) {
+  const Vec start = u;
+  NewtonResult r = solve_once(sv, problem, u);
+  const double lim = problem.limiting_strain_rate();
+  const double first = kContinuationStart * derived_.reference_strain_rate;
+  if (r.converged || !(lim < first)) return r;
+  // Redone from the same start: each limiting rate a decade below the
+  // last, down to the scene's, each solve starting from the last solution.
+  u = start;
+  int iterations = r.iterations, solves = 0;
+  double rate = first;
+  for (;;) {
+    problem.set_limiting_strain_rate(rate);
+    r = solve_once(sv, problem, u);
+    iterations += r.iterations, ++solves;
+    if (!r.converged || rate == lim) break;
+    rate = 0.1 * rate > lim * (1 + 1e-9) ? 0.1 * rate : lim;
+  }
+  problem.set_limiting_strain_rate(lim);
+  r.iterations = iterations;
+  const std::string what = "continuation of the limiting strain rate from " + sci(kContinuationStart) + " to " +
+                           sci(rate / derived_.reference_strain_rate) + " of the reference rate";
+  if (!r.converged) r.reason += " (by " + what + ")";
+  else events.push_back("solved by " + what + " (" + std::to_string(solves) + " solves)");
+  return r;
 }
 
 State Runner::advance(const State& st, const Solution& sol, double dt) const {
@@ -172,7 +264,17 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.solves = sol.solves;
   r.residual = sol.residual;
   r.tangent_rcond = std::isfinite(sol.rcond) ? sol.rcond : -1.0;
-  out_.min_tangent_rcond = std::min(out_.min_tangent_rcond, sol.rcond);
+  if (sol.rcond < out_.min_tangent_rcond) out_.min_tangent_rcond = sol.rcond, min_rcond_step_ = step;
+  if (sol.residual > kFloorWarning * scene_.solver.newton.tol_force) {
+    ++floor_steps_;
+    if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
+  }
+  if (const auto pen = contact_.max_penetration_rel()) {
+    penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
+    if (!(*pen <= worst_penetration_)) {
+      worst_penetration_ = *pen, worst_penetration_step_ = step, worst_penetration_stroke_ = st.stroke;
+    }
+  }
   r.x = st.x;
   r.v = sol.v;
   const Index ne = scene_.mesh.num_elements();
@@ -205,6 +307,23 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
 }
 
 RunOutcome Runner::finish() {
+  if (out_.min_tangent_rcond < kIllConditionedRcond || floor_steps_ > 0) {
+    std::string w = "the tangent was ill-conditioned";
+    if (std::isfinite(out_.min_tangent_rcond))
+      w += ": least rcond " + sci(out_.min_tangent_rcond) + " at step " + std::to_string(min_rcond_step_);
+    if (out_.min_tangent_rcond < kIllConditionedRcond) w += " (below 100 x machine epsilon)";
+    if (floor_steps_ > 0)
+      w += "; " + std::to_string(floor_steps_) + " step(s) solved only to the residual's round-off floor, up to " +
+           sci(worst_floor_) + " at step " + std::to_string(worst_floor_step_) + " (solver.tol_force " +
+           sci(scene_.solver.newton.tol_force) + ")";
+    out_.warnings.push_back(w + ": a penalty or stiffness too large for double precision");
+  }
+  if (penetrating_steps_ > 0)
+    out_.warnings.push_back("penetration unacceptable: " + sci(worst_penetration_) +
+                            " of the element size at step " + std::to_string(worst_penetration_step_) + " (stroke " +
+                            sci(worst_penetration_stroke_) + " mm), above run.penetration_tolerance = " +
+                            sci(scene_.penetration_tolerance) + " at " + std::to_string(penetrating_steps_) +
+                            " step(s); raise the contact penalty (formulations.penalty.beta_factor)");
   const LinearSolveStats& ls = ws_.linear.stats();
   out_.assembly_seconds = ws_.assembly_seconds;
   out_.analyze_seconds = ls.analyze_seconds;
@@ -257,7 +376,7 @@ RunOutcome Runner::run() {
   const bool midpoint = scene_.stepping.integration == TimeIntegration::Midpoint;
   Solution sol = solve(st, std::vector<Vec2>(mesh.x.size(), Vec2::Zero()), 0, derived_.dt_nominal, nullptr, !midpoint);
   if (!sol.failure.empty()) {
-    out_.reason = "step 0 (initial configuration): " + sol.failure;
+    out_.reason = "step 0 (initial configuration): " + sol.failure + conditioning_note(sol.rcond, sol.stalled);
     return finish();
   }
   flow_stress_ = sol.flow_stress;
@@ -275,6 +394,7 @@ RunOutcome Runner::run() {
     std::vector<Vec2> moved_by;
     for (;; ++cuts) {
       std::string why;
+      const Solution* failed = nullptr;  // the solve that failed
       const Solution* mover = &sol;
       Solution mid;
       if (midpoint) {
@@ -282,7 +402,7 @@ RunOutcome Runner::run() {
         State half = advance(st, sol, 0.5 * dt);
         mid = solve(half, sol.v, step, dt, &st);
         if (mid.failure.empty()) mover = &mid;
-        else why = "midpoint solve: " + mid.failure;
+        else why = "midpoint solve: " + mid.failure, failed = &mid;
       }
       if (why.empty()) {
         next = advance(st, *mover, dt);
@@ -302,6 +422,7 @@ RunOutcome Runner::run() {
       if (why.empty()) {
         next_sol = solve(next, mover->v, step, dt, nullptr, !midpoint);
         why = next_sol.failure;
+        if (!why.empty()) failed = &next_sol;
       }
       if (why.empty()) {
         moved_by = mover->v;
@@ -313,7 +434,8 @@ RunOutcome Runner::run() {
       }
       if (cuts == scene_.stepping.max_cuts) {
         out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) +
-                      " mm failed after " + std::to_string(cuts) + " step halvings: " + why;
+                      " mm failed after " + std::to_string(cuts) + " step halvings: " + why +
+                      (failed ? conditioning_note(failed->rcond, failed->stalled) : std::string());
         return finish();
       }
       obs_.on_retry(step, dt, why);

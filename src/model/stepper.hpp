@@ -5,7 +5,9 @@
 // initial configuration; every step records a configuration and the solution
 // on it. A failing step (Newton divergence, an inverted element) is redone
 // from the last accepted state with half the step, up to max_cuts times;
-// then the run stops, every finished step already recorded.
+// then the run stops, every finished step already recorded. The stop
+// reason carries the failing solve's least tangent condition estimate, and
+// says when it was ill-conditioned (la/linear_solver.hpp, solver/newton.hpp).
 #pragma once
 #include <array>
 #include <cmath>
@@ -71,6 +73,11 @@ struct RunOutcome {
   double assembly_seconds = 0, analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
   int pattern_builds = 0, factorizations = 0, cholesky_fallbacks = 0;
   double min_tangent_rcond = INFINITY;  // over the recorded steps
+  // What the run met that makes its results doubtful, as sentences for the
+  // driver to record and print: an ill-conditioned tangent (below
+  // kIllConditionedRcond, or steps solved only to a round-off floor far
+  // above tol_force), a penetration above scene.penetration_tolerance.
+  std::vector<std::string> warnings;
 };
 
 RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer);

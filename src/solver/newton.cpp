@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rpfem {
 
@@ -30,6 +31,7 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
   bool cut = false;       // the previous line search cut the step
   for (int it = 1; it <= s.max_iterations; ++it) {
     out.iterations = it;
+    out.stalled = false;  // of the last iteration only
     const double rnorm = R.norm();
     if (!std::isfinite(rnorm)) {
       out.reason = "residual is not finite";
@@ -102,14 +104,17 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
       out.converged = true;
       return out;
     }
-    if (it > s.direct_iterations && newton_correction <= kRoundOffCorrection &&
-        out.residual <= kRoundOffFactor * s.tol_force) {
+    out.stalled = it > s.direct_iterations && newton_correction <= kRoundOffCorrection;
+    if (out.stalled && out.residual <= kRoundOffFactor * s.tol_force) {
       out.converged = out.at_round_off = true;
+      out.stalled = false;
       return out;
     }
   }
-  out.reason = "no convergence in " + std::to_string(s.max_iterations) + " iterations (residual " +
-               std::to_string(out.residual) + ")";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "no convergence in %d iterations (residual %.2g, correction %.2g)%s", s.max_iterations,
+                out.residual, out.correction, out.stalled ? ", stalled at the residual's round-off floor" : "");
+  out.reason = buf;
   return out;
 }
 

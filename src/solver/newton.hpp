@@ -57,6 +57,10 @@ struct NewtonResult {
   double residual = 0;         // |R| / F_scale at exit
   double correction = 0;       // |du| / |u| of the last iteration
   bool at_round_off = false;   // converged on the round-off floor (see newton.cpp)
+  // Not converged, and the last Newton correction was at round-off with
+  // the residual above what is accepted there: the residual's round-off
+  // floor lies above tol_force (an ill-conditioned problem).
+  bool stalled = false;
   std::string reason;          // why it stopped when not converged
 };
 

@@ -27,4 +27,11 @@ expect negative-K "bodies.billet.material.K': expected a positive number" -- "$r
 expect zero-height "bodies.billet.mesh.height': expected a positive number" -- "$rpfem" run "$base" --out "$tmp/o5" --set bodies.billet.mesh.height=0.0
 expect bad-formulation "formulation 'nonsense' is unknown" -- "$rpfem" run "$base" --out "$tmp/o6" --formulation nonsense
 expect bad-set "--set" -- "$rpfem" run "$base" --out "$tmp/o7" --set nonsense
+# [expect] tables (docs/case-format.md) are validated as every other key.
+ext=$src/cases/extremes/penalty_beta.toml
+expect expect-outcome "expect.outcome': expected one of 'finished' 'stopped'" -- "$rpfem" run "$ext" --out "$tmp/o8" --set expect.outcome=maybe
+expect expect-unknown "expect.outcom': unknown key" -- "$rpfem" run "$ext" --out "$tmp/o9" --set expect.outcom=finished
+expect expect-bounds "expect.measure.0.min': min is above max" -- "$rpfem" run "$ext" --out "$tmp/o10" --set expect.measure.0.min=1.0
+expect expect-reference "expect.measure.0.reference_case': no such file" -- "$rpfem" run "$ext" --out "$tmp/o11" --set expect.measure.0.reference_case=nope.toml
+expect penetration-tolerance "run.penetration_tolerance': expected a positive number" -- "$rpfem" run "$base" --out "$tmp/o12" --set run.penetration_tolerance=0.0
 exit $fail

@@ -232,11 +232,38 @@ TEST(Newton, StopsOnTheRoundOffFloorOnlyNearTheTolerance) {
   EXPECT_TRUE(near.converged) << near.reason;
   EXPECT_TRUE(near.at_round_off);
   EXPECT_GT(near.residual, 1e-7);
+  EXPECT_FALSE(near.stalled);
   const NewtonResult far = run(1e-4);
   EXPECT_FALSE(far.converged);
+  // Far above: stalled at the floor, and the reason says so (the stepper
+  // then reports the tangent as ill-conditioned).
+  EXPECT_TRUE(far.stalled);
+  EXPECT_NE(far.reason.find("stalled at the residual's round-off floor"), std::string::npos) << far.reason;
   const NewtonResult none = run(0);
   EXPECT_TRUE(none.converged);
   EXPECT_FALSE(none.at_round_off);
+  EXPECT_FALSE(none.stalled);
+}
+
+// A failure that is not at the floor (the corrections stay large) is not
+// reported as stalled.
+TEST(Newton, DivergenceIsNotAStall) {
+  NewtonSystem sys;
+  sys.residual = [](const Vec& u, Vec& R, double& s) {
+    R = Vec::Constant(1, 1.0 + 1e-3 * u(0));  // never zero along the corrections below
+    s = 1;
+  };
+  sys.solve = [](const Vec&, bool, const Vec&, Vec& du) {
+    du = Vec::Constant(1, 0.5);
+    return true;
+  };
+  Vec u = Vec::Ones(1);
+  NewtonSettings s;
+  s.max_iterations = 5;
+  const NewtonResult r = newton_solve(sys, s, u);
+  EXPECT_FALSE(r.converged);
+  EXPECT_FALSE(r.stalled);
+  EXPECT_EQ(r.reason.find("stalled"), std::string::npos) << r.reason;
 }
 
 // The condition estimate of a diagonal matrix diag(1, ..., 1, 1e-6) is its
@@ -259,4 +286,21 @@ TEST(LinearSolver, ConditionEstimateFromTheFactorDiagonal) {
   EXPECT_NEAR(lu.stats().min_rcond, 1e-12, 1e-24);
   lu.reset_rcond();
   EXPECT_TRUE(std::isinf(lu.stats().min_rcond));
+}
+
+// A singular matrix: both factorizations fail, and the condition estimate
+// of the step records 0 (a failed solve then reports an ill-conditioned
+// tangent, not the estimate of an earlier matrix).
+TEST(LinearSolver, SingularMatrixRecordsZeroCondition) {
+  SpMat A(2, 2);
+  A.insert(0, 0) = 1.0, A.insert(0, 1) = 1.0, A.insert(1, 0) = 1.0, A.insert(1, 1) = 1.0;
+  SpMat I(2, 2);
+  I.insert(0, 0) = 1.0, I.insert(1, 1) = 1.0;
+  for (auto choice : {LinearSolverChoice::Auto, LinearSolverChoice::Cholmod, LinearSolverChoice::Umfpack}) {
+    LinearSolver s(choice);
+    ASSERT_TRUE(s.factorize(I, true, 1));
+    EXPECT_EQ(s.stats().min_rcond, 1.0);
+    EXPECT_FALSE(s.factorize(A, true, 2));
+    EXPECT_EQ(s.stats().min_rcond, 0.0);
+  }
 }

@@ -1,4 +1,4 @@
-#include "app/variants.hpp"
+#include "io/variants.hpp"
 
 #include <set>
 

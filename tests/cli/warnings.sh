@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Requirement (issue 7, extremes): a run records what makes its results
+# doubtful in summary.json `warnings` and the driver prints each; a run
+# stopped by an ill-conditioned tangent says so, with the rcond and a hint.
+set -u
+rpfem=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+case=$src/cases/extremes/penalty_beta.toml
+fail() { echo "FAIL: $*"; exit 1; }
+# beta 1e-3 x default: penetration 2.3e-3 of the element size, above the
+# default run.penetration_tolerance (1e-3).
+err=$("$rpfem" run "$case" --variant beta_1e-3 --out "$tmp/low" --quiet 2>&1 >/dev/null); rc=$?
+[ "$rc" -eq 0 ] || fail "beta 1e-3: exit $rc"
+echo "$err" | grep -q "^rpfem: warning: penetration unacceptable: .* above run.penetration_tolerance = 0.001" ||
+  fail "beta 1e-3: no warning printed: $err"
+# (the top-level key: the case's [expect] tables, in the parameters, name warnings too)
+grep -A1 '^    "warnings" : \[' "$tmp/low/summary.json" | grep -q '"penetration unacceptable: ' ||
+  fail "beta 1e-3: summary.json warnings"
+# The same run with a looser tolerance: no warning, and the tolerance is
+# recorded with the parameters.
+err=$("$rpfem" run "$case" --variant beta_1e-3 --out "$tmp/loose" --quiet --set run.penetration_tolerance=1e-2 2>&1 >/dev/null)
+[ -z "$err" ] || fail "tolerance 1e-2: unexpected output: $err"
+grep -q '^    "warnings" : \[\]' "$tmp/loose/summary.json" || fail "tolerance 1e-2: warnings not empty"
+grep -q '"penetration_tolerance" *: *0.01' "$tmp/loose/summary.json" || fail "tolerance not in the parameters"
+# beta 1e12 x default: Newton stalls at the first solve.
+err=$("$rpfem" run "$case" --variant beta_1e12 --out "$tmp/high" --quiet 2>&1 >/dev/null); rc=$?
+[ "$rc" -eq 3 ] || fail "beta 1e12: exit $rc, expected 3"
+echo "$err" | grep -q "run stopped: .*the tangent is ill-conditioned (rcond [0-9.e+-]*, below 100 x machine epsilon).*beta_factor" ||
+  fail "beta 1e12: reason: $err"
+grep -q '"reason" *: *".*ill-conditioned' "$tmp/high/summary.json" || fail "beta 1e12: summary.json reason"
+echo "ok: warnings recorded and printed, ill-conditioning reported"
