@@ -64,7 +64,7 @@ SENSITIVITY_PANELS = [
     ("relative load difference", "load error against the reference run",
      [("load_error", "largest over the strokes"), ("load_error_final", "at the last stroke")], True, None),
     ("Newton iterations per step", "iterations per step (step 0 left out)",
-     [("iterations_median", "median"), ("iterations_max", "max")], True, ("max_iterations", 10.0)),
+     [("iterations_median", "median"), ("iterations_max", "max")], False, ("max_iterations", 10.0)),
     ("rcond (least over the run)", "tangent's reciprocal condition estimate", [("rcond", "rcond")], True, None),
 ]
 
@@ -96,6 +96,8 @@ def sensitivity_png(s):
         ax.set_xscale("log")
         if log:
             ax.set_yscale("log")
+        else:
+            ax.set_ylim(bottom=0)
         ax.set(ylabel=ylabel)
         ax.set_title(title, fontsize=9)
         ax.grid(True, alpha=0.3)

@@ -22,7 +22,7 @@ def caption(s, k):
     measure = "mean load over the stroke (work / stroke)" if ref.get("measure") == "mean" else "final load"
     if k == "sensitivity":
         w = s["meta"].get("window", {})
-        return ("Against %s on log axes: the largest penetration over the element size (dashed: the %g limit); the "
+        return ("Against %s (log axis): the largest penetration over the element size (dashed: the %g limit); the "
                 "load's relative difference from the %s reference run, largest over the strokes and at the last "
                 "stroke; Newton iterations per step, median and max (dashed: the %g limit); the least reciprocal "
                 "condition estimate of the tangents. Shaded: the usable window (finished, both limits met). x: runs "
