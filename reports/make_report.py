@@ -11,14 +11,16 @@ iterations, residual and force imbalance, for rings the calibration
 curves; field_figures.py: the strain rate on the deformed meshes through
 the stroke and the velocity near the contact at the end), each with a
 caption, and a table of the runs (status, steps, wall time, time per step,
-final load, largest penetration). A figure the data do not allow, or that
-fails, is left out with a note. The runs' files are read by results.py.
+final load, largest penetration). Last, the studies the suite ran
+(study_section.py: per study its figure, what its sweep.json concludes and
+its table). A figure the data do not allow, or that fails, is left out with
+a note. The runs' files are read by results.py, the studies' tables by
+study_results.py.
 
 Run with Debian's Python: /usr/bin/python3 reports/make_report.py OUT
 (from any directory: the sibling modules import from the script's own
 directory, which Python puts first on sys.path).
 """
-import base64
 import html
 import json
 import os
@@ -27,6 +29,8 @@ import sys
 from curve_figures import CALIBRATION_FIGURE, LOAD_FIGURE, STEPS_FIGURE, calibration_png
 from field_figures import MESH_FIGURE, VELOCITY_FIGURE
 from plotting import plt
+from report_html import figure, html_table, md_table, note
+from study_section import studies_section
 from results import REFERENCE_ORDER, final_load_kN, label, load_differences, load_run
 
 # alt text, file tag, drawing (out, runs, scene) giving a PNG or None (no data), caption
@@ -51,18 +55,11 @@ def scene_figures(out, sc, rs):
     captions) and Markdown."""
     imgs_html, imgs_md = "", ""
     for alt, tag, draw, caption in FIGURES:
-        png, note = render(draw, out, rs, sc, alt)
-        if png is None:
-            imgs_html += "<p><em>%s</em></p>" % html.escape(note) if note else ""
-            imgs_md += "*%s*\n\n" % note if note else ""
-            continue
-        fname = "report_files/%s_%s.png" % (sc, tag)
-        with open(os.path.join(out, fname), "wb") as f:
-            f.write(png)
-        imgs_html += ("<figure><img alt='%s, %s' src='data:image/png;base64,%s'/><figcaption>%s</figcaption>"
-                      "</figure>" % (html.escape(alt), html.escape(sc), base64.b64encode(png).decode(),
-                                     html.escape(caption)))
-        imgs_md += "![%s, %s](%s)\n\n*%s*\n\n" % (alt, sc, fname, caption)
+        png, text = render(draw, out, rs, sc, alt)
+        h, m = (figure(out, "report_files/%s_%s.png" % (sc, tag), png, "%s, %s" % (alt, sc), caption) if png
+                else note(text) if text else ("", ""))
+        imgs_html += h
+        imgs_md += m
     return imgs_html, imgs_md
 
 
@@ -86,7 +83,8 @@ HEADER = ["run", "status", "steps", "wall time (s)", "time per step (s)", "final
 
 def main(out):
     with open(os.path.join(out, "suite.json")) as f:
-        runs = [load_run(out, r) for r in json.load(f)["runs"]]
+        suite = json.load(f)
+    runs = [load_run(out, r) for r in suite["runs"]]
     scenes = []
     for r in runs:
         if r["case"] not in scenes:
@@ -131,28 +129,18 @@ def main(out):
     ver_title = "Verification checks: %d, %d failed" % (len(ver_rows), ver_failed)
     ver_html = "<h2>%s</h2>%s" % (ver_title, html_table(ver_header, ver_rows)) if ver_rows else ""
     ver_md = "## %s\n\n%s\n" % (ver_title, md_table(ver_header, ver_rows)) if ver_rows else ""
+    studies_html, studies_md = studies_section(out, suite.get("studies", []))
     with open(os.path.join(out, "report.html"), "w") as f:
         f.write("<!DOCTYPE html><html><head><meta charset='utf-8'><title>rpfem suite report</title>"
                 "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:collapse}"
                 "td,th{border:1px solid #999;padding:2px 6px;text-align:right}img{max-width:100%%}</style></head><body>"
-                "<h1>rpfem suite report</h1><p>%s</p>%s%s%s</body></html>\n"
-                % (html.escape(intro), html_table(sum_header, summary_rows), ver_html, "".join(sections_html)))
+                "<h1>rpfem suite report</h1><p>%s</p>%s%s%s%s</body></html>\n"
+                % (html.escape(intro), html_table(sum_header, summary_rows), ver_html, "".join(sections_html),
+                   studies_html))
     with open(os.path.join(out, "report.md"), "w") as f:
-        f.write("# rpfem suite report\n\n%s\n\n%s\n%s\n%s" % (intro, md_table(sum_header, summary_rows), ver_md,
-                                                             "\n".join(sections_md)))
+        f.write("# rpfem suite report\n\n%s\n\n%s\n%s\n%s\n%s" % (intro, md_table(sum_header, summary_rows), ver_md,
+                                                                 "\n".join(sections_md), studies_md))
     print(os.path.abspath(os.path.join(out, "report.html")))
-
-
-def html_table(header, rows):
-    h = "".join("<th>%s</th>" % html.escape(c) for c in header)
-    b = "".join("<tr>%s</tr>" % "".join("<td>%s</td>" % html.escape(c) for c in r) for r in rows)
-    return "<table><tr>%s</tr>%s</table>" % (h, b)
-
-
-def md_table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(r) + " |" for r in rows]
-    return "\n".join(lines) + "\n"
 
 
 if __name__ == "__main__":

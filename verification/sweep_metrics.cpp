@@ -44,6 +44,19 @@ LoadError load_error(const History& run, const History& ref, const std::string& 
   return e;
 }
 
+double mean_load(const History& h, const std::string& load, double from) {
+  const auto& s = h.at("stroke");
+  const auto& f = h.at(load);
+  double work = 0;  // kN mm
+  for (std::size_t i = 1; i < s.size(); ++i) {
+    if (s[i] <= from) continue;
+    const double a = std::max(s[i - 1], from), t = s[i] > s[i - 1] ? (a - s[i - 1]) / (s[i] - s[i - 1]) : 0.0;
+    const double fa = std::abs(f[i - 1] + t * (f[i] - f[i - 1])), fb = std::abs(f[i]);
+    work += 0.5 * (fa + fb) / 1e3 * (s[i] - a);
+  }
+  return !s.empty() && s.back() > from ? work / (s.back() - from) : -1.0;
+}
+
 Richardson richardson(std::vector<double> h, std::vector<double> f) {
   Richardson r;
   if (h.size() != f.size() || h.size() < 3) {

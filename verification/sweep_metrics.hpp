@@ -32,6 +32,13 @@ struct LoadError {
 };
 LoadError load_error(const History& run, const History& reference, const std::string& load, double from);
 
+// The mean of |load| over the run's strokes from `from` mm to its last, kN:
+// the work of the load over that stroke divided by the stroke, trapezoidal
+// over the recorded steps (the first interval cut at `from`). Averaging
+// smooths the staircase of a contact spreading node by node, which a load
+// at one stroke carries. -1 when the run does not get past `from`.
+double mean_load(const History& h, const std::string& load, double from);
+
 // Richardson's estimate from values f at sizes h (h > 0; the three
 // smallest are used and must have a constant ratio r = h2 / h1 = h3 / h2 > 1
 // to within 1e-6): observed order p = ln((f3 - f2) / (f2 - f1)) / ln r and

@@ -43,13 +43,24 @@ int main(int argc, char** argv) {
   suite.cases_dir = std::string(RPFEM_SOURCE_DIR) + "/cases";
   suite.out_dir = "out";
   suite.checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
-  auto* suite_cmd = app.add_subcommand("suite", "Run every scene with every formulation that applies, then the report");
-  pool_options(suite_cmd, suite, "folder of case files",
-               "coarse meshes: half the divisions of every mesh (run.mesh_factor = 0.5)");
-  suite_cmd->add_option("--scene", suite.scenes, "run only these scenes (case file names without .toml)");
-  suite_cmd->add_option("--formulation,-f", suite.formulations, "run only these formulations");
+  auto* suite_cmd = app.add_subcommand(
+      "suite", "Run every scene with every formulation that applies and the studies of CASES/studies, then the report");
+  pool_options(suite_cmd, suite, "folder of case files (its studies/ folder: the studies)",
+               "coarse meshes: half the divisions of every scene's mesh (run.mesh_factor = 0.5), the studies' "
+               "reduced grids");
+  suite_cmd->get_option("--set")->description(
+      "override a case value in every scene run (not the studies'): key.path=value");
+  suite_cmd->add_option("--scene", suite.scenes,
+                        "run only these scenes (case file names without .toml), and the studies on them");
+  suite_cmd->add_option("--formulation,-f", suite.formulations,
+                        "run only these formulations in the scene runs (a study runs its own)");
   suite_cmd->add_option("--checks", suite.checks_file, "verification checks (TOML; empty: none)")->capture_default_str();
   suite_cmd->add_flag("!--no-variants", suite.variants, "skip the scenes' [[variants]]");
+  auto* study_opt = suite_cmd->add_option(
+      "--study", suite.studies,
+      "run only these studies of CASES/studies (file names without .toml; default: all, or with --scene those on "
+      "the scenes named)");
+  suite_cmd->add_flag("!--no-studies", suite.run_studies, "skip the studies of CASES/studies")->excludes(study_opt);
   suite_cmd->add_flag("!--no-report", suite.report, "skip the report");
 
   rpfem::SweepOptions sweep;

@@ -88,6 +88,14 @@ Study read_study(const std::string& path, const std::string& cases_dir, bool qui
   } else if (st.reference == "richardson") {
     st.richardson_axis = r.text("axis", std::nullopt);
     if (!has_axis(st.richardson_axis)) r.fail("axis", "the key of one of the study's axes");
+    st.measure = r.text("measure", std::string("final"), {"final", "mean"});
+    st.reference_formulation = r.text("formulation", std::string());
+    if (!st.reference_formulation.empty()) {
+      const auto f = std::find_if(st.axes.begin(), st.axes.end(), [](const StudyAxis& a) { return a.formulation(); });
+      if (f == st.axes.end() || std::count(f->values.begin(), f->values.end(), st.reference_formulation) == 0)
+        r.fail("formulation",
+               "one of the values of the study's formulation axis, got '" + st.reference_formulation + "'");
+    }
   }
   if (auto w = s.table("window")) {
     st.window_axis = w->text("axis", std::nullopt);

@@ -19,8 +19,13 @@
 //                and `set` (added to the study's); "richardson": the
 //                estimate from the three finest values of the `axis`
 //                (size h = 1 / value for run.mesh_factor, h = value for any
-//                other key), per combination of the other axes
+//                other key), per combination of the other axes; with
+//                `formulation` (a value of the formulation axis), that
+//                formulation's estimate is every formulation's reference
 //   formulation, set, axis  as above
+//   measure      ["final"] the load Richardson compares: "final", at the
+//                last stroke; "mean", averaged over the strokes from `from`
+//                (work / stroke: smooth where contact spreads node by node)
 //   from         [0] mm: the load error counts strokes from here on
 //   [study.window]  the usable range of one axis (e.g. beta): the runs that
 //   axis         finished with penetration <= max_penetration_rel [1e-3]
@@ -44,11 +49,15 @@ struct Study {
   std::vector<std::string> set;
   std::vector<StudyAxis> axes;
   std::string reference = "none", reference_formulation, richardson_axis;
+  std::string measure = "final";  // Richardson's load: "final" or "mean"
   std::vector<std::string> reference_set;
   double from = 0;
   std::string window_axis;
   double window_penetration = -1, window_iterations = -1;
 };
+
+// The study runs one more run, its reference formulation's.
+inline bool has_reference_run(const Study& st) { return st.reference == "formulation"; }
 
 // Reads and validates a study; InputError naming the file and key. Under
 // quick the axes hold their quick values and quick_set is appended to set.

@@ -10,8 +10,10 @@
 
 #include <toml++/toml.h>
 
+#include "app/case_folder.hpp"
 #include "app/run_pool.hpp"
 #include "app/subprocess.hpp"
+#include "app/suite_studies.hpp"
 #include "io/variants.hpp"
 #include "app/verify_command.hpp"
 #include "core/types.hpp"
@@ -40,15 +42,7 @@ std::vector<std::string> applicable(const Scene& scene) {
 }
 
 std::vector<Job> plan(const SuiteOptions& opt) {
-  std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(opt.cases_dir))
-    if (e.is_regular_file() && e.path().extension() == ".toml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  std::string known;
-  for (const auto& p : files) known += (known.empty() ? "" : ", ") + p.stem().string();
-  for (const auto& s : opt.scenes)
-    if (std::none_of(files.begin(), files.end(), [&](const fs::path& p) { return p.stem().string() == s; }))
-      throw InputError(opt.cases_dir + ": no scene '" + s + "'; expected one of: " + known);
+  const std::vector<fs::path> files = case_files(opt.cases_dir, opt.scenes, "scene");
   for (const auto& f : opt.formulations)
     if (std::none_of(formulations().begin(), formulations().end(), [&](const auto& x) { return x.name == f; }))
       throw InputError("--formulation: '" + f + "' is unknown");
@@ -82,15 +76,36 @@ std::vector<Job> plan(const SuiteOptions& opt) {
   return jobs;
 }
 
-void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs) {
-  toml::array runs;
+void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs, const std::vector<SweepPlan>& studies,
+                    const std::vector<int>& stopped) {
+  toml::array runs, study_list;
   for (const auto& j : jobs)
     runs.push_back(toml::table{{"case", j.case_name}, {"case_file", fs::absolute(j.case_file).string()},
                                {"formulation", j.formulation}, {"variant", j.variant},
                                {"dir", fs::relative(j.dir, opt.out_dir).string()}, {"exit_code", j.rc},
                                {"wall_time_s", j.seconds}});
+  for (std::size_t i = 0; i < studies.size(); ++i) {
+    const SweepPlan& p = studies[i];
+    const std::string dir = fs::relative(p.options.out_dir, opt.out_dir).string();
+    double seconds = 0;
+    for (const auto& r : p.runs) seconds += r.seconds;
+    toml::table t{{"study", p.study.name},
+                  {"study_file", fs::absolute(p.study.file).string()},
+                  {"case", fs::path(p.study.case_file).stem().string()},
+                  {"description", p.study.description},
+                  {"quick", p.options.quick},
+                  {"dir", dir},
+                  {"table", dir + "/sweep.csv"},
+                  {"table_h5", dir + "/sweep.h5"},
+                  {"metadata", dir + "/sweep.json"},
+                  {"runs", static_cast<int64_t>(p.index.size())},
+                  {"stopped", stopped[i]},
+                  {"runs_time_s", seconds}};
+    if (has_reference_run(p.study)) t.insert("reference_exit_code", p.runs.back().rc);
+    study_list.push_back(t);
+  }
   std::ostringstream os;
-  os << toml::json_formatter{toml::table{{"runs", runs}}} << "\n";
+  os << toml::json_formatter{toml::table{{"runs", runs}, {"studies", study_list}}} << "\n";
   write_text_atomically(opt.out_dir + "/suite.json", os.str());
 }
 
@@ -103,9 +118,25 @@ int suite_command(const SuiteOptions& options) {
   fs::create_directories(opt.out_dir);
   std::vector<Job> jobs = plan(opt);
   if (jobs.empty()) throw InputError(opt.cases_dir + ": no scene and formulation matched");
-  if (!opt.quiet) std::printf("rpfem suite: results in %s\n", opt.out_dir.c_str());
-  run_pool(jobs, opt.jobs, opt.quiet);
-  write_manifest(opt, jobs);
+  std::vector<SweepPlan> studies = plan_studies(opt);
+  if (!opt.quiet) {
+    std::printf("rpfem suite: results in %s\n", opt.out_dir.c_str());
+    for (const auto& p : studies)
+      std::printf("  study %s: %zu runs into %s\n", p.study.name.c_str(), p.runs.size(), p.options.out_dir.c_str());
+  }
+  // One pool for the scenes' runs and the studies': --jobs holds for all.
+  std::vector<Job> all = jobs;
+  for (const auto& p : studies) all.insert(all.end(), p.runs.begin(), p.runs.end());
+  run_pool(all, opt.jobs, opt.quiet);
+  std::copy_n(all.begin(), jobs.size(), jobs.begin());
+  auto next = all.begin() + static_cast<std::ptrdiff_t>(jobs.size());
+  std::vector<int> stopped;
+  for (auto& p : studies) {
+    std::copy_n(next, p.runs.size(), p.runs.begin());
+    next += static_cast<std::ptrdiff_t>(p.runs.size());
+    stopped.push_back(write_sweep(p));
+  }
+  write_manifest(opt, jobs, studies, stopped);
   if (!opt.checks_file.empty()) {
     std::vector<std::string> scenes;
     for (const auto& j : jobs) scenes.push_back(j.case_name);
@@ -116,6 +147,16 @@ int suite_command(const SuiteOptions& options) {
   int rc = 0;
   for (const auto& j : jobs)
     if (j.rc != 0) rc = 3;
+  // A study's run that stops is a measurement its table records (the
+  // penalty studies look for where runs stop); its reference run is not.
+  int study_stops = 0;
+  for (std::size_t i = 0; i < studies.size(); ++i) {
+    study_stops += stopped[i];
+    if (has_reference_run(studies[i].study) && studies[i].runs.back().rc != 0) rc = 3;
+  }
+  if (!opt.quiet && study_stops > 0)
+    std::printf("studies: %d run%s stopped early, recorded in the tables (the exit code does not count them)\n",
+                study_stops, study_stops == 1 ? "" : "s");
   if (opt.report) {
     const std::string script = std::string(RPFEM_SOURCE_DIR) + "/reports/make_report.py";
     const std::string cmd = "/usr/bin/python3 " + shell_quote(script) + " " + shell_quote(opt.out_dir) +

@@ -27,19 +27,14 @@ namespace rpfem {
 
 namespace {
 
-struct Point {
-  std::vector<std::size_t> index;  // per axis
-  PoolRun run;
-};
-
-// The grid's points in row-major order (the last axis fastest).
-std::vector<Point> grid(const Study& st, const SweepOptions& opt) {
-  std::vector<Point> out;
+// The grid's runs in row-major order (the last axis fastest), each with its
+// value's index on each axis.
+void grid(SweepPlan& plan) {
+  const Study& st = plan.study;
+  const SweepOptions& opt = plan.options;
   std::vector<std::size_t> idx(st.axes.size(), 0);
   for (;;) {
-    Point p;
-    p.index = idx;
-    PoolRun& r = p.run;
+    PoolRun r;
     r.case_file = st.case_file;
     r.formulation = st.formulation;
     r.overrides = st.set;
@@ -56,15 +51,15 @@ std::vector<Point> grid(const Study& st, const SweepOptions& opt) {
     }
     r.overrides.insert(r.overrides.end(), opt.overrides.begin(), opt.overrides.end());
     char dir[32];
-    std::snprintf(dir, sizeof dir, "/runs/%03zu", out.size());
+    std::snprintf(dir, sizeof dir, "/runs/%03zu", plan.runs.size());
     r.dir = opt.out_dir + dir;
     r.label = st.name + " " + r.label;
-    out.push_back(p);
+    plan.index.push_back(idx);
+    plan.runs.push_back(r);
     std::size_t a = st.axes.size();
     while (a > 0 && ++idx[a - 1] == st.axes[a - 1].values.size()) idx[--a] = 0;
     if (a == 0) break;
   }
-  return out;
 }
 
 // End stroke and planned steps for progress lines (and an early check of
@@ -103,14 +98,15 @@ struct Outcome {
   RunMetrics m;
   LoadError err;
   bool finished = false;
-  double per_step = -1;  // s, the summary's time per step
+  double mean_load = -1;  // kN, over the strokes from the study's `from`
+  double per_step = -1;   // s, the summary's time per step
   std::string formulation, reason;
 };
 
 Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
   Outcome o;
   const History h = history_or_empty(r.dir);
-  if (h.rows() > 0) o.m = run_metrics(h, st.load);
+  if (h.rows() > 0) o.m = run_metrics(h, st.load), o.mean_load = mean_load(h, st.load, st.from);
   if (ref.rows() > 1 && h.rows() > 1) o.err = load_error(h, ref, st.load, st.from);
   const auto status = summary_string(r.dir, "status");
   o.finished = status.value_or("") == "finished" && r.rc == 0;
@@ -122,6 +118,10 @@ Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
   return o;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 struct RichardsonGroup {
   std::string label;  // the other axes' values
   Richardson r;
@@ -129,57 +129,82 @@ struct RichardsonGroup {
 
 }  // namespace
 
-int sweep_command(const SweepOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Study st = read_study(opt.study_file, opt.cases_dir, opt.quick);
-  std::vector<Point> points = grid(st, opt);
-  std::vector<PoolRun> runs;
-  for (auto& p : points) {
-    plan_progress(p.run);
-    runs.push_back(p.run);
-  }
-  if (st.reference == "formulation") {
+SweepPlan plan_sweep(const SweepOptions& opt) {
+  SweepPlan plan;
+  plan.start = std::chrono::steady_clock::now();
+  plan.options = opt;
+  plan.study = read_study(opt.study_file, opt.cases_dir, opt.quick);
+  const Study& st = plan.study;
+  grid(plan);
+  if (has_reference_run(st)) {
     PoolRun ref;
     ref.label = st.name + " reference " + st.reference_formulation;
     ref.case_file = st.case_file, ref.formulation = st.reference_formulation, ref.dir = opt.out_dir + "/reference";
     ref.overrides = st.set;
     ref.overrides.insert(ref.overrides.end(), st.reference_set.begin(), st.reference_set.end());
     ref.overrides.insert(ref.overrides.end(), opt.overrides.begin(), opt.overrides.end());
-    plan_progress(ref);
-    runs.push_back(ref);
+    plan.runs.push_back(ref);
   }
+  for (auto& r : plan.runs) plan_progress(r);
+  return plan;
+}
+
+int sweep_command(const SweepOptions& opt) {
+  SweepPlan plan = plan_sweep(opt);
   fs::create_directories(opt.out_dir);
-  if (!opt.quiet) std::printf("rpfem sweep %s: %s, results in %s\n", st.name.c_str(), st.description.c_str(), opt.out_dir.c_str());
-  run_pool(runs, opt.jobs, opt.quiet);
-  for (std::size_t i = 0; i < points.size(); ++i) points[i].run = runs[i];
+  if (!opt.quiet)
+    std::printf("rpfem sweep %s: %s, results in %s\n", plan.study.name.c_str(), plan.study.description.c_str(),
+                opt.out_dir.c_str());
+  run_pool(plan.runs, opt.jobs, opt.quiet);
+  return write_sweep(plan) ? 3 : 0;
+}
+
+int write_sweep(const SweepPlan& plan) {
+  const Study& st = plan.study;
+  const SweepOptions& opt = plan.options;
+  const std::vector<PoolRun>& runs = plan.runs;
+  const std::size_t n = plan.index.size();  // grid runs
+  fs::create_directories(opt.out_dir);
 
   // Per run: the history's metrics and the summary's status and timing.
-  const History ref = st.reference == "formulation" ? history_or_empty(runs.back().dir) : History{};
-  std::vector<Outcome> out(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) out[i] = outcome(points[i].run, st, ref);
+  const History ref = has_reference_run(st) ? history_or_empty(runs.back().dir) : History{};
+  std::vector<Outcome> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = outcome(runs[i], st, ref);
 
-  // Richardson: per combination of the other axes, along the size axis.
+  // Richardson: along the size axis, per combination of the other axes;
+  // with a reference formulation, that formulation's estimate serves the
+  // runs of every formulation at the same other values.
   std::vector<RichardsonGroup> rich;
   if (st.reference == "richardson") {
     const std::size_t ax = axis_index(st, st.richardson_axis);
-    std::map<std::vector<std::size_t>, std::vector<std::size_t>> groups;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      auto key = points[i].index;
+    const bool common = !st.reference_formulation.empty();
+    const std::size_t fax = common ? axis_index(st, "formulation") : st.axes.size();
+    auto group_of = [&](std::size_t i) {
+      auto key = plan.index[i];
       key[ax] = 0;
-      if (out[i].finished) groups[key].push_back(i);
-    }
+      if (common) key[fax] = 0;
+      return key;
+    };
+    auto compared = [&](std::size_t i) { return st.measure == "mean" ? out[i].mean_load : out[i].m.final_load; };
+    std::map<std::vector<std::size_t>, std::vector<std::size_t>> groups;
+    for (std::size_t i = 0; i < n; ++i)
+      if (out[i].finished && (!common || runs[i].formulation == st.reference_formulation))
+        groups[group_of(i)].push_back(i);
     for (const auto& [key, members] : groups) {
       std::vector<double> hs, fs;
       for (std::size_t i : members) {
-        hs.push_back(size_of(st.richardson_axis, st.axes[ax].numbers[points[i].index[ax]]));
-        fs.push_back(out[i].m.final_load);
+        hs.push_back(size_of(st.richardson_axis, st.axes[ax].numbers[plan.index[i][ax]]));
+        fs.push_back(compared(i));
       }
-      RichardsonGroup g{"", richardson(hs, fs)};  // label: the other axes, if any
+      // label: the other axes, if any
+      RichardsonGroup g{common ? "formulation=" + st.reference_formulation : "", richardson(hs, fs)};
       for (std::size_t a = 0; a < st.axes.size(); ++a)
-        if (a != ax) g.label += (g.label.empty() ? "" : " ") + st.axes[a].key + "=" + st.axes[a].values[key[a]];
+        if (a != ax && a != fax)
+          g.label += (g.label.empty() ? "" : " ") + st.axes[a].key + "=" + st.axes[a].values[key[a]];
       if (g.label.empty()) g.label = "(all runs)";
       if (g.r.ok)
-        for (std::size_t i : members) out[i].err.final = std::abs(out[i].m.final_load / g.r.extrapolated - 1);
+        for (std::size_t i = 0; i < n; ++i)
+          if (out[i].finished && group_of(i) == key) out[i].err.final = std::abs(compared(i) / g.r.extrapolated - 1);
       rich.push_back(g);
     }
   }
@@ -189,18 +214,19 @@ int sweep_command(const SweepOptions& opt) {
   t.columns = {"run", "dir", "formulation"};
   for (const auto& a : st.axes)
     if (!a.formulation()) t.columns.push_back(a.key);
-  for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "penetration_rel",
-                        "load_error", "load_error_final", "volume_error", "iterations_mean", "iterations_median",
-                        "iterations_max", "rcond", "wall_time_s", "time_per_step_s", "reason"})
+  for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "mean_load_kN",
+                        "penetration_rel", "load_error", "load_error_final", "volume_error", "iterations_mean",
+                        "iterations_median", "iterations_max", "rcond", "wall_time_s", "time_per_step_s", "reason"})
     t.columns.push_back(c);
-  for (std::size_t i = 0; i < points.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     const Outcome& o = out[i];
     std::map<std::string, double> n{{"run", double(i)},
-                                    {"exit_code", double(points[i].run.rc)},
+                                    {"exit_code", double(runs[i].rc)},
                                     {"finished", o.finished ? 1.0 : 0.0},
                                     {"steps", double(o.m.steps)},
                                     {"final_stroke_mm", o.m.final_stroke},
                                     {"final_load_kN", o.m.final_load},
+                                    {"mean_load_kN", o.mean_load},
                                     {"penetration_rel", o.m.penetration},
                                     {"load_error", o.err.largest},
                                     {"load_error_final", o.err.final},
@@ -209,11 +235,11 @@ int sweep_command(const SweepOptions& opt) {
                                     {"iterations_median", o.m.iterations_median},
                                     {"iterations_max", o.m.iterations_max},
                                     {"rcond", o.m.rcond},
-                                    {"wall_time_s", points[i].run.seconds},
+                                    {"wall_time_s", runs[i].seconds},
                                     {"time_per_step_s", o.per_step}};
     for (std::size_t a = 0; a < st.axes.size(); ++a)
-      if (!st.axes[a].formulation()) n[st.axes[a].key] = st.axes[a].numbers[points[i].index[a]];
-    t.add_row(n, {{"dir", fs::relative(points[i].run.dir, opt.out_dir).string()}, {"formulation", o.formulation},
+      if (!st.axes[a].formulation()) n[st.axes[a].key] = st.axes[a].numbers[plan.index[i][a]];
+    t.add_row(n, {{"dir", fs::relative(runs[i].dir, opt.out_dir).string()}, {"formulation", o.formulation},
                   {"reason", o.reason}});
   }
 
@@ -222,18 +248,20 @@ int sweep_command(const SweepOptions& opt) {
   std::vector<double> usable;
   if (!st.window_axis.empty()) {
     const std::size_t ax = axis_index(st, st.window_axis);
-    for (std::size_t i = 0; i < points.size(); ++i)
+    for (std::size_t i = 0; i < n; ++i)
       if (out[i].finished && out[i].m.penetration >= 0 && out[i].m.penetration <= st.window_penetration &&
           out[i].m.iterations_median <= st.window_iterations)
-        usable.push_back(st.axes[ax].numbers[points[i].index[ax]]);
+        usable.push_back(st.axes[ax].numbers[plan.index[i][ax]]);
   }
   const auto [lo, hi] = std::minmax_element(usable.begin(), usable.end());
 
+  double runs_time = 0;  // s, the runs' own wall times (the reference's included)
+  for (const auto& r : runs) runs_time += r.seconds;
   toml::array axes, run_list, rich_list;
   for (const auto& a : st.axes) axes.push_back(toml::table{{"key", a.key}, {"values", to_array(a.values)}});
-  for (const auto& p : points)
-    run_list.push_back(toml::table{{"dir", fs::relative(p.run.dir, opt.out_dir).string()},
-                                   {"formulation", p.run.formulation}, {"overrides", to_array(p.run.overrides)}});
+  for (std::size_t i = 0; i < n; ++i)
+    run_list.push_back(toml::table{{"dir", fs::relative(runs[i].dir, opt.out_dir).string()},
+                                   {"formulation", runs[i].formulation}, {"overrides", to_array(runs[i].overrides)}});
   for (const auto& g : rich)
     rich_list.push_back(toml::table{{"group", g.label}, {"ok", g.r.ok}, {"observed_order", g.r.ok ? g.r.order : -1.0},
                                     {"extrapolated_load_kN", g.r.ok ? g.r.extrapolated : -1.0},
@@ -249,10 +277,12 @@ int sweep_command(const SweepOptions& opt) {
                    {"command_line_set", to_array(opt.overrides)},
                    {"axes", axes},
                    {"reference", toml::table{{"kind", st.reference}, {"formulation", st.reference_formulation},
-                                             {"from_mm", st.from}}},
+                                             {"axis", st.richardson_axis}, {"from_mm", st.from},
+                                             {"measure", st.measure}}},
                    {"runs", run_list},
                    {"version", kVersion},
-                   {"wall_time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+                   {"wall_time_s", seconds_since(plan.start)},
+                   {"runs_time_s", runs_time}};
   if (!rich.empty()) meta.insert("richardson", rich_list);
   if (!st.window_axis.empty()) {
     toml::table w{{"axis", st.window_axis}, {"max_penetration_rel", st.window_penetration},
@@ -271,12 +301,12 @@ int sweep_command(const SweepOptions& opt) {
 
   const auto stopped = std::count_if(out.begin(), out.end(), [](const Outcome& o) { return !o.finished; });
   if (!opt.quiet) {
-    std::printf("%s: %zu runs, %ld stopped; table %s/sweep.csv\n", st.name.c_str(), points.size(),
+    std::printf("%s: %zu runs, %ld stopped; table %s/sweep.csv\n", st.name.c_str(), n,
                 static_cast<long>(stopped), opt.out_dir.c_str());
     for (const auto& g : rich) {
       if (g.r.ok)
-        std::printf("  Richardson %s: observed order %.3f, extrapolated load %.6g kN\n", g.label.c_str(), g.r.order,
-                    g.r.extrapolated);
+        std::printf("  Richardson %s: observed order %.3f, extrapolated %s load %.6g kN\n", g.label.c_str(), g.r.order,
+                    st.measure.c_str(), g.r.extrapolated);
       else
         std::printf("  Richardson %s: %s\n", g.label.c_str(), g.r.note.c_str());
     }
@@ -285,7 +315,7 @@ int sweep_command(const SweepOptions& opt) {
       std::printf("  usable %s: %g to %g (%.1f decades)\n", st.window_axis.c_str(), *lo, *hi,
                   *lo > 0 ? std::log10(*hi / *lo) : 0.0);
   }
-  return stopped ? 3 : 0;
+  return static_cast<int>(stopped);
 }
 
 }  // namespace rpfem

@@ -6,9 +6,15 @@
 //   OUT/sweep.csv, OUT/sweep.h5   the table (io/table_writer.hpp)
 //   OUT/sweep.json       the study, every override used, Richardson's
 //                        estimates, the usable window, version, timings
+// `rpfem suite` runs its studies through plan_sweep and write_sweep, their
+// runs on the suite's own pool.
 #pragma once
+#include <chrono>
 #include <string>
 #include <vector>
+
+#include "app/run_pool.hpp"
+#include "app/study.hpp"
 
 namespace rpfem {
 
@@ -19,6 +25,25 @@ struct SweepOptions {
   bool quick = false;                  // the axes' quick values, quick_set
   bool quiet = false;
 };
+
+// A study's runs before they run: the grid in row-major order (the last
+// axis fastest), then the reference run if the study names one.
+struct SweepPlan {
+  SweepOptions options;
+  Study study;
+  std::vector<std::vector<std::size_t>> index;  // per grid run, its value's index on each axis
+  std::vector<PoolRun> runs;                    // the grid's, then the reference
+  std::chrono::steady_clock::time_point start;
+};
+
+// Reads the study and every run's case with its overrides: bad input
+// (InputError) comes before anything runs.
+SweepPlan plan_sweep(const SweepOptions& opt);
+
+// After the plan's runs ran (their rc and seconds filled): the table,
+// sweep.h5 and sweep.json, and unless quiet the summary lines. Returns the
+// number of grid runs that stopped early.
+int write_sweep(const SweepPlan& plan);
 
 // Exit code: 0 every run finished, 3 some stopped (the table says which),
 // 2 bad input.

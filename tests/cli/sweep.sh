@@ -58,4 +58,9 @@ check "bad kind: exit 2 naming file and key ($err)" '[ $rc -eq 2 ] && printf "%s
 sed 's/^values = \[1e-4, 1.0, 1e4\]/values = [1e-4, 1.0, 1e4]\nvalue = 3/' "$tmp/study.toml" > "$tmp/unknown.toml"
 err=$("$rpfem" sweep "$tmp/unknown.toml" --out "$tmp/bad2" 2>&1); rc=$?
 check "unknown key: exit 2 ($err)" '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.axis"'
+sed -e 's/^kind = "formulation"/kind = "richardson"\naxis = "formulations.penalty.beta_factor"\nmeasure = "mean"/' \
+  -e 's/^formulation = "ipopt"/formulation = "direct"/' "$tmp/study.toml" > "$tmp/common.toml"
+err=$("$rpfem" sweep "$tmp/common.toml" --out "$tmp/bad3" 2>&1); rc=$?
+check "a Richardson reference formulation off the formulation axis: exit 2 ($err)" \
+  '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.reference.formulation"'
 exit $fail

@@ -1,7 +1,7 @@
 // What a sweep measures (verification/sweep_metrics.*) and its table
 // (io/table_writer.*): Richardson's estimate on a known expansion, the
 // per-run metrics of a small history, the load error against a reference,
-// and the table read back from CSV and HDF5.
+// the mean load over a stroke, and the table read back from CSV and HDF5.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -73,6 +73,16 @@ TEST(SweepMetrics, LoadErrorAgainstAReferenceFromAStroke) {
   EXPECT_NEAR(all.largest, 0.05, 1e-12);
   EXPECT_NEAR(late.largest, 0.01, 1e-12);
   EXPECT_NEAR(all.final, 0.01, 1e-12);
+}
+
+TEST(SweepMetrics, MeanLoadIsTheWorkOverTheStrokeFromAStroke) {
+  // |F| = 1000 s N (kN: s) to 2 mm, then a landing: a jump to 3 kN held to 4 mm.
+  const History h = history({0, 1, 2, 2.0001, 3, 4}, {0, -1000, -2000, -3000, -3000, -3000}, {1, 1, 1, 1, 1, 1});
+  const double landing = 0.5 * (2 + 3) * 1e-4;  // kN mm, the jump's interval
+  EXPECT_NEAR(mean_load(h, "F", 0.0), (2 + landing + 3 * 1.9999) / 4, 1e-12);
+  // From 1.5 mm: the first interval cut there (|F| 1.5 kN).
+  EXPECT_NEAR(mean_load(h, "F", 1.5), (0.5 * (1.5 + 2) * 0.5 + landing + 3 * 1.9999) / 2.5, 1e-12);
+  EXPECT_EQ(mean_load(h, "F", 4.0), -1.0);  // nothing past the last stroke
 }
 
 TEST(TableWriter, CsvAndHdf5HoldTheSameRows) {

@@ -1,0 +1,173 @@
+"""The report's Studies section (reports/make_report.py): for each study
+`rpfem suite` ran (OUT/suite.json, "studies"), its figure
+(study_figures.py), what its sweep.json concludes (Richardson's observed
+order and extrapolated load, the usable window), and a table of its runs
+(sweep.csv's essentials; loads in kN, times in s; "-": not measured). A
+study whose table cannot be read, or whose figure the data do not allow,
+gets a note saying why."""
+import html
+import math
+import sys
+
+from plotting import plt
+from report_html import figure, html_table, md_table, note
+from study_figures import DRAW
+from study_results import kind, load_study, short, size
+
+ALT = {"sensitivity": "penalty sensitivity", "convergence": "convergence", "pareto": "speed against accuracy"}
+
+
+def caption(s, k):
+    ref = s["meta"].get("reference", {})
+    measure = "mean load over the stroke (work / stroke)" if ref.get("measure") == "mean" else "final load"
+    if k == "sensitivity":
+        w = s["meta"].get("window", {})
+        return ("Against %s (log axis): the largest penetration over the element size (dashed: the %g limit); the "
+                "load's relative difference from the %s reference run, largest over the strokes and at the last "
+                "stroke; Newton iterations per step, median and max (dashed: the %g limit); the least reciprocal "
+                "condition estimate of the tangents. Shaded: the usable window (finished, both limits met). x: runs "
+                "that did not finish (the reason is in the table)."
+                % (short(s["axes"][0]), w.get("max_penetration_rel", 1e-3), ref.get("formulation", ""),
+                   w.get("max_iterations", 10)))
+    if k == "convergence":
+        return ("Left: the relative difference of the %s from Richardson's extrapolation against the size, "
+                "log-log (dotted, below the points: the observed order's slope over the three finest sizes); right: "
+                "the %s itself (dashed: the extrapolated value)." % (measure, measure))
+    common = ref.get("formulation")
+    return ("Each run's error against its wall time, log-log: the relative difference of its %s from Richardson's "
+            "extrapolation of the %s mesh sequence%s; labels: the mesh factor (1: the case's mesh). Dashed: the "
+            "Pareto front, the runs no other run beats in both time and error."
+            % (measure, "%s runs'" % common if common else "same formulation's",
+               " (one reference for every formulation)" if common else ""))
+
+
+def coarser_order(hs, fs):
+    """Richardson's order from the three coarsest sizes, when there are four
+    or more at a constant ratio; None otherwise or when refused (the check
+    that the finest three are in the asymptotic range)."""
+    pts = sorted(zip(hs, fs), reverse=True)
+    if len(pts) < 4:
+        return None
+    (h3, f3), (h2, f2), (h1, f1) = pts[:3]
+    r = h2 / h1
+    if abs(h3 / h2 / r - 1) > 1e-6 or f2 == f1 or (f3 - f2) / (f2 - f1) <= 1:
+        return None
+    return math.log((f3 - f2) / (f2 - f1)) / math.log(r)
+
+
+def findings(s):
+    """Lines of what the study's sweep.json concludes."""
+    meta, lines = s["meta"], []
+    done = [r for r in s["rows"] if r["finished"] == 1]
+    if len(done) < len(s["rows"]):
+        lines.append("%d of %d runs did not finish (the reasons are in the table)." % (len(s["rows"]) - len(done),
+                                                                                      len(s["rows"])))
+    ref = meta.get("reference", {})
+    for g in meta.get("richardson", []):
+        if not g["ok"]:
+            lines.append("Richardson's estimate, %s: refused, %s; no observed order." % (g["group"], g["note"]))
+            continue
+        text = ("Richardson's estimate, %s: observed order %.2f, extrapolated %s load %.4f kN (size ratio %g)."
+                % (g["group"], g["observed_order"], ref.get("measure", "final"), g["extrapolated_load_kN"],
+                   g["ratio"]))
+        f = g["group"].split("formulation=", 1)[1].split()[0] if "formulation=" in g["group"] else None
+        rows = [r for r in done if f is None or r["formulation"] == f]
+        key = ref["axis"]
+        q = coarser_order([size(key, r[key]) for r in rows],
+                          [r["mean_load_kN" if ref.get("measure") == "mean" else "final_load_kN"] for r in rows])
+        if q is not None:
+            text += (" The three coarsest sizes give %.2f (where the two orders differ, the coarsest size is not in "
+                     "the asymptotic range)." % q)
+        lines.append(text)
+    w = meta.get("window")
+    if w:
+        limits = "penetration / element size <= %g and median iterations per step <= %g" % (
+            w["max_penetration_rel"], w["max_iterations"])
+        if w.get("usable"):
+            lines.append("Usable %s (%s): %g to %g, %.1f decades." % (short(w["axis"]), limits, w["from"], w["to"],
+                                                                      w.get("decades", 0)))
+        else:
+            pen = sum(1 for r in done if r["penetration_rel"] is not None
+                      and r["penetration_rel"] <= w["max_penetration_rel"])
+            it = sum(1 for r in done if r["iterations_median"] is not None
+                     and r["iterations_median"] <= w["max_iterations"])
+            lines.append("Usable %s (%s): none. Of the %d finished runs, %d meet the penetration limit and %d the "
+                         "iteration limit." % (short(w["axis"]), limits, len(done), pen, it))
+    return lines
+
+
+def cell(r, col, spec):
+    """A table cell: yes / no for finished, text as is, "-" for a value not measured."""
+    v = r.get(col)
+    if col.startswith("iterations") and not r.get("steps"):
+        return "-"  # no step after step 0
+    if spec is None:
+        return "yes" if v == 1 else "no"
+    if spec == "%s":
+        return v or ""
+    return "-" if v is None else spec % v
+
+
+def table(s):
+    """Header and rows of the study's table; columns nobody measured left out."""
+    ref = s["meta"].get("reference", {})
+    rich = ref.get("kind") == "richardson"
+    cols = [("formulation", "formulation", "%s")] if any(a["key"] == "formulation"
+                                                         for a in s["meta"].get("axes", [])) else []
+    cols += [(short(k), k, "%g") for k in s["axes"]]
+    cols += [("finished", "finished", None), ("steps", "steps", "%d"), ("final stroke (mm)", "final_stroke_mm", "%.3g"),
+             ("final load (kN)", "final_load_kN", "%.4f" if rich and ref.get("measure") != "mean" else "%.2f")]
+    if ref.get("measure") == "mean":
+        cols.append(("mean load (kN)", "mean_load_kN", "%.4f"))
+    cols += [("penetration / element size", "penetration_rel", "%.1e")]
+    if not rich:
+        cols.append(("load error, largest", "load_error", "%.1e"))
+    cols += [("error vs extrapolated" if rich else "load error, last stroke", "load_error_final", "%.1e"),
+             ("iterations median", "iterations_median", "%g"), ("iterations max", "iterations_max", "%g"),
+             ("rcond", "rcond", "%.1e"), ("wall time (s)", "wall_time_s", "%.1f"), ("reason", "reason", "%s")]
+    cols = [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in s["rows"])]
+    rows = [[cell(r, col, spec) for _, col, spec in cols] for r in s["rows"]]
+    return [c[0] for c in cols], rows
+
+
+def study_block(out, entry):
+    """One study's part of the section: (HTML, Markdown)."""
+    s = load_study(out, entry)
+    title = "%s (%s%s)" % (entry["study"], entry.get("case", ""), ", quick grid" if entry.get("quick") else "")
+    h, m = "<h3>%s</h3><p>%s</p>" % (html.escape(title), html.escape(entry.get("description", ""))), \
+        "### %s\n\n%s\n\n" % (title, entry.get("description", ""))
+    if s["error"]:
+        nh, nm = note("No table: %s" % s["error"])
+        return h + nh, m + nm
+    k = kind(s)
+    if k:
+        alt = "%s, %s" % (ALT[k], entry["study"])
+        try:
+            png = DRAW[k](s)
+        except Exception as e:  # noqa: BLE001 - a broken figure skips the figure only
+            plt.close("all")
+            print("make_report: study %s, figure skipped: %s: %s" % (entry["study"], type(e).__name__, e),
+                  file=sys.stderr)
+            png, why = None, "%s: figure skipped (%s: %s)" % (alt, type(e).__name__, e)
+        else:
+            why = "%s: not drawn, no finished run has the values" % alt
+        fh, fm = (figure(out, "report_files/study_%s_%s.png" % (entry["study"], k), png, alt, caption(s, k))
+                  if png else note(why))
+        h, m = h + fh, m + fm
+    lines = findings(s)
+    h += "".join("<p>%s</p>" % html.escape(x) for x in lines)
+    m += "".join("%s\n\n" % x for x in lines)
+    header, rows = table(s)
+    return (h + html_table(header, rows) + "<p>Table: %s</p>" % html.escape(entry["table"]),
+            m + md_table(header, rows) + "\nTable: %s\n\n" % entry["table"])
+
+
+def studies_section(out, entries):
+    """The Studies section: (HTML, Markdown); empty when no study ran."""
+    if not entries:
+        return "", ""
+    intro = ("Studies of cases/studies run by the suite (rpfem sweep's tables, docs/sweeps.md): one scene over a "
+             "grid of numerical parameters, a row per run.")
+    blocks = [study_block(out, e) for e in entries]
+    return ("<h2>Studies</h2><p>%s</p>%s" % (html.escape(intro), "".join(b[0] for b in blocks)),
+            "## Studies\n\n%s\n\n%s" % (intro, "".join(b[1] for b in blocks)))

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Issue 7: a quick suite runs the shipped Test II studies (their reduced
+# grids) beside one small scene and the report carries their figures and
+# tables: the penalty sensitivity, speed against accuracy, and mesh and step
+# convergence with an observed order. Then a suite without studies still
+# builds its report, with no Studies section. About 40 s on 2 cores.
+set -u
+rpfem=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+o=$tmp/o
+out=$("$rpfem" suite --out "$o" --jobs 2 --quick --scene upsetting_dies_frictionless_axisym \
+  --study penalty_beta_test2 --study speed_accuracy_test2 --study mesh_convergence_test2 \
+  --study step_convergence_test2 2>&1); rc=$?
+echo "$out" | grep -E "^(  study|studies:|penalty_beta|speed_acc|mesh_conv|step_conv|  Richardson|  usable|report:)"
+# penalty_beta_test2's largest betas stop (its table says so): exit 0 all the same.
+check "suite exits 0 ($rc)" '[ $rc -eq 0 ]'
+for s in penalty_beta_test2:7 speed_accuracy_test2:6 mesh_convergence_test2:3 step_convergence_test2:3; do
+  name=${s%:*}; rows=${s#*:}
+  check "$name: quick grid of $rows rows" '[ "$(($(wc -l < "$o/studies/$name/sweep.csv") - 1))" -eq $rows ]'
+  check "$name in suite.json" 'grep -q "\"table\" : \"studies/$name/sweep.csv\"" "$o/suite.json"'
+done
+stopped=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "finished") c = i } NR > 1 && $c == 0' \
+  "$o/studies/penalty_beta_test2/sweep.csv" | wc -l)
+check "the runs that stopped, counted in suite.json ($stopped)" \
+  '[ $stopped -gt 0 ] && grep -q "\"stopped\" : $stopped" "$o/suite.json"'
+check "progress lines name the studies' runs" \
+  'echo "$out" | grep -q "^\[[0-9]*/[0-9]*\] penalty_beta_test2 beta_factor=1e+12: stopped"'
+for f in penalty_beta_test2_sensitivity speed_accuracy_test2_pareto mesh_convergence_test2_convergence \
+         step_convergence_test2_convergence; do
+  check "figure $f" '[ -s "$o/report_files/study_$f.png" ] && grep -q "(report_files/study_$f.png)" "$o/report.md"'
+done
+embedded() { grep -o "<img alt='$1, $2' src='data:image/png;base64," "$o/report.html" | wc -l; }
+check "figures embedded in the HTML" '[ "$(embedded "penalty sensitivity" penalty_beta_test2)" -eq 1 ] &&
+  [ "$(embedded "speed against accuracy" speed_accuracy_test2)" -eq 1 ] &&
+  [ "$(embedded convergence mesh_convergence_test2)" -eq 1 ] && [ "$(embedded convergence step_convergence_test2)" -eq 1 ]'
+check "studies' tables in the report" 'grep -q "^| beta_factor | finished | steps |" "$o/report.md" &&
+  grep -q "^| formulation | mesh_factor | finished |" "$o/report.md"'
+# Midpoint stepping: the observed order in the stroke increment is about 2;
+# the mean load over the stroke gives the mesh an order too.
+order=$(grep -o "observed order [0-9.]*, extrapolated final load" "$o/report.md" | head -1 | awk '{print $3}')
+check "step convergence: observed order $order in [1.5, 2.5]" 'awk -v p="$order" "BEGIN { exit !(p >= 1.5 && p <= 2.5) }"'
+check "mesh convergence: an observed order" 'grep -q "observed order [0-9.]*, extrapolated mean load" "$o/report.md"'
+check "speed against accuracy: penalty's errors against the direct runs' estimate" \
+  '[ "$(awk -F, "NR == 1 { for (i = 1; i <= NF; i++) if (\$i == \"load_error_final\") c = i }
+                 NR > 1 && \$3 == \"penalty\" && \$c > 0" "$o/studies/speed_accuracy_test2/sweep.csv" | wc -l)" -eq 3 ]'
+check "the usable window stated" 'grep -q "^Usable beta_factor (penetration / element size <= 0.001" "$o/report.md"'
+# A suite without studies: the report builds, no Studies section.
+"$rpfem" suite --out "$tmp/n" --jobs 2 --quick --scene upsetting_dies_frictionless_axisym --formulation direct \
+  --no-studies --no-variants -q > "$tmp/n.log" 2>&1; rc=$?
+check "no studies: exit 0 ($rc)" '[ $rc -eq 0 ]'
+check "no studies: report without a Studies section" \
+  '[ -s "$tmp/n/report.md" ] && ! grep -q "^## Studies" "$tmp/n/report.md" && [ ! -d "$tmp/n/studies" ]'
+exit $fail
