@@ -19,12 +19,20 @@ RunMetrics run_metrics(const History& h, const std::string& load) {
   if (has("max_penetration_rel"))
     for (double p : h.at("max_penetration_rel")) m.penetration = std::max(m.penetration, p);
   for (double dv : h.at("volume_change")) m.volume_error = std::max(m.volume_error, std::abs(dv));
+  auto median = [](std::vector<double> x) {
+    std::sort(x.begin(), x.end());
+    const std::size_t k = x.size() / 2;
+    return x.size() % 2 ? x[k] : 0.5 * (x[k - 1] + x[k]);
+  };
   std::vector<double> it(h.at("newton_iterations").begin() + 1, h.at("newton_iterations").end());
   if (!it.empty()) {
     for (double k : it) m.iterations_mean += k / it.size(), m.iterations_max = std::max(m.iterations_max, k);
-    std::sort(it.begin(), it.end());
-    const std::size_t k = it.size() / 2;
-    m.iterations_median = it.size() % 2 ? it[k] : 0.5 * (it[k - 1] + it[k]);
+    m.iterations_median = median(it);
+    if (has("solves")) {
+      std::vector<double> per(it.size());
+      for (std::size_t i = 0; i < it.size(); ++i) per[i] = it[i] / std::max(1.0, h.at("solves")[i + 1]);
+      m.iterations_per_solve_median = median(per);
+    }
   }
   if (has("tangent_rcond"))
     for (double r : h.at("tangent_rcond"))

@@ -18,6 +18,7 @@ struct RunMetrics {
   double iterations_mean = 0;     // Newton (or Ipopt) iterations per step, steps after step 0
   double iterations_median = 0;   // (all solves of a step: contact re-solves included)
   double iterations_max = 0;
+  double iterations_per_solve_median = -1;  // median over the steps of iterations / solves (-1: no solves column)
   double rcond = -1;              // least tangent_rcond (no kernel factorization: -1)
 };
 

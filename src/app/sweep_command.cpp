@@ -216,7 +216,7 @@ int write_sweep(const SweepPlan& plan) {
     if (!a.formulation()) t.columns.push_back(a.key);
   for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "mean_load_kN",
                         "penetration_rel", "load_error", "load_error_final", "volume_error", "iterations_mean",
-                        "iterations_median", "iterations_max", "rcond", "wall_time_s", "time_per_step_s", "reason"})
+                        "iterations_median", "iterations_max", "iterations_per_solve_median", "rcond", "wall_time_s", "time_per_step_s", "reason"})
     t.columns.push_back(c);
   for (std::size_t i = 0; i < n; ++i) {
     const Outcome& o = out[i];
@@ -234,6 +234,7 @@ int write_sweep(const SweepPlan& plan) {
                                     {"iterations_mean", o.m.iterations_mean},
                                     {"iterations_median", o.m.iterations_median},
                                     {"iterations_max", o.m.iterations_max},
+                                    {"iterations_per_solve_median", o.m.iterations_per_solve_median},
                                     {"rcond", o.m.rcond},
                                     {"wall_time_s", runs[i].seconds},
                                     {"time_per_step_s", o.per_step}};

@@ -64,6 +64,11 @@ TEST(SweepMetrics, PerRunValuesFromTheHistory) {
   EXPECT_DOUBLE_EQ(m.iterations_median, 7.0);
   EXPECT_DOUBLE_EQ(m.iterations_max, 20.0);
   EXPECT_DOUBLE_EQ(m.rcond, 2e-9);
+  EXPECT_DOUBLE_EQ(m.iterations_per_solve_median, -1.0);  // no solves column
+  History s = h;
+  s.columns.push_back("solves");
+  s.data["solves"] = {3, 2, 3, 1, 2};  // per step: 2, 3, 5, 10 iterations per solve
+  EXPECT_DOUBLE_EQ(run_metrics(s, "F").iterations_per_solve_median, 4.0);
 }
 
 TEST(SweepMetrics, LoadErrorAgainstAReferenceFromAStroke) {
