@@ -64,11 +64,13 @@ def findings(s):
                                                                                       len(s["rows"])))
     ref = meta.get("reference", {})
     for g in meta.get("richardson", []):
+        # The group names the other axes' values; "(all runs)" when there are none.
+        group = "" if g["group"] in ("", "(all runs)") else " (%s)" % g["group"]
         if not g["ok"]:
-            lines.append("Richardson's estimate, %s: refused, %s; no observed order." % (g["group"], g["note"]))
+            lines.append("Richardson's estimate%s: refused, %s; no observed order." % (group, g["note"]))
             continue
-        text = ("Richardson's estimate, %s: observed order %.2f, extrapolated %s load %.4f kN (size ratio %g)."
-                % (g["group"], g["observed_order"], ref.get("measure", "final"), g["extrapolated_load_kN"],
+        text = ("Richardson's estimate%s: observed order %.2f, extrapolated %s load %.4f kN (size ratio %g)."
+                % (group, g["observed_order"], ref.get("measure", "final"), g["extrapolated_load_kN"],
                    g["ratio"]))
         f = g["group"].split("formulation=", 1)[1].split()[0] if "formulation=" in g["group"] else None
         rows = [r for r in done if f is None or r["formulation"] == f]
