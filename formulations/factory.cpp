@@ -19,6 +19,18 @@ const std::vector<FormulationInfo>& formulations() {
   return list;
 }
 
+const FormulationInfo* find_formulation(const std::string& name) {
+  for (const auto& f : formulations())
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+std::string formulation_names() {
+  std::string known;
+  for (const auto& f : formulations()) known += (known.empty() ? "" : ", ") + f.name;
+  return known;
+}
+
 std::unique_ptr<ContactFormulation> make_formulation(const std::string& name, CaseFile& file, const Scene& scene) {
   // Each formulation reads [formulations.<name>]; the others' sections are
   // known keys that this run does not use.
@@ -33,9 +45,7 @@ std::unique_ptr<ContactFormulation> make_formulation(const std::string& name, Ca
   if (name == "direct") return std::make_unique<DirectContact>(scene, all.section("direct"));
   if (name == "penalty") return std::make_unique<PenaltyContact>(scene, all.section("penalty"));
   if (name == "ipopt") return std::make_unique<IpoptContact>(scene, all.section("ipopt"));
-  std::string known;
-  for (const auto& f : formulations()) known += (known.empty() ? "" : ", ") + f.name;
-  throw InputError(file.path() + ": formulation '" + name + "' is unknown; expected one of: " + known);
+  throw InputError(file.path() + ": formulation '" + name + "' is unknown; expected one of: " + formulation_names());
 }
 
 }  // namespace rpfem

@@ -18,6 +18,10 @@ struct FormulationInfo {
   bool bodies = false;  // treats contact between deformable bodies
 };
 const std::vector<FormulationInfo>& formulations();
+// The formulation of that name, nullptr if none.
+const FormulationInfo* find_formulation(const std::string& name);
+// The known names, comma-separated (for messages).
+std::string formulation_names();
 
 // Reads the formulation's own case keys from `file`; throws InputError for
 // an unknown name or a combination the scene cannot use.

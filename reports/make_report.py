@@ -28,7 +28,7 @@ import sys
 
 from curve_figures import CALIBRATION_FIGURE, LOAD_FIGURE, STEPS_FIGURE, calibration_png
 from field_figures import MESH_FIGURE, VELOCITY_FIGURE
-from plotting import plt
+from plotting import draw_or_skip
 from report_html import figure, html_table, md_table, note
 from study_section import studies_section
 from results import REFERENCE_ORDER, final_load_kN, label, load_differences, load_run
@@ -41,13 +41,10 @@ def render(draw, out, rs, sc, alt):
     """draw's PNG, or None with a note when the data do not allow it: a
     broken figure is skipped, it does not stop the report. No ring
     calibration curves is no news."""
-    try:
-        png = draw(out, rs, sc)
-        return png, "" if png or draw is calibration_png else alt + ": not drawn, no run has the data"
-    except Exception as e:  # noqa: BLE001 - any failure of one figure only skips it
-        plt.close("all")
-        print("make_report: %s, %s skipped: %s: %s" % (sc, alt, type(e).__name__, e), file=sys.stderr)
-        return None, "%s: figure skipped (%s: %s)" % (alt, type(e).__name__, e)
+    png, why = draw_or_skip(lambda: draw(out, rs, sc), alt, sc)
+    if why:
+        return None, why
+    return png, "" if png or draw is calibration_png else alt + ": not drawn, no run has the data"
 
 
 def scene_figures(out, sc, rs):

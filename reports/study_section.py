@@ -7,11 +7,10 @@ study whose table cannot be read, or whose figure the data do not allow,
 gets a note saying why."""
 import html
 import math
-import sys
 
-from plotting import plt
+from plotting import draw_or_skip
 from report_html import figure, html_table, md_table, note
-from study_figures import DRAW
+from study_figures import DRAW, compared, finished, richardson_groups
 from study_results import kind, load_study, short, size
 
 ALT = {"sensitivity": "penalty sensitivity", "convergence": "convergence", "pareto": "speed against accuracy"}
@@ -58,25 +57,22 @@ def coarser_order(hs, fs):
 def findings(s):
     """Lines of what the study's sweep.json concludes."""
     meta, lines = s["meta"], []
-    done = [r for r in s["rows"] if r["finished"] == 1]
+    done = finished(s["rows"])
     if len(done) < len(s["rows"]):
         lines.append("%d of %d runs did not finish (the reasons are in the table)." % (len(s["rows"]) - len(done),
                                                                                       len(s["rows"])))
     ref = meta.get("reference", {})
-    for g in meta.get("richardson", []):
+    for label, g, rows in richardson_groups(s):
         # The group names the other axes' values; "(all runs)" when there are none.
-        group = "" if g["group"] in ("", "(all runs)") else " (%s)" % g["group"]
+        group = "" if label in ("", "(all runs)") else " (%s)" % label
         if not g["ok"]:
             lines.append("Richardson's estimate%s: refused, %s; no observed order." % (group, g["note"]))
             continue
         text = ("Richardson's estimate%s: observed order %.2f, extrapolated %s load %.4f kN (size ratio %g)."
                 % (group, g["observed_order"], ref.get("measure", "final"), g["extrapolated_load_kN"],
                    g["ratio"]))
-        f = g["group"].split("formulation=", 1)[1].split()[0] if "formulation=" in g["group"] else None
-        rows = [r for r in done if f is None or r["formulation"] == f]
         key = ref["axis"]
-        q = coarser_order([size(key, r[key]) for r in rows],
-                          [r["mean_load_kN" if ref.get("measure") == "mean" else "final_load_kN"] for r in rows])
+        q = coarser_order([size(key, r[key]) for r in rows], [compared(s, r) for r in rows])
         if q is not None:
             text += (" The three coarsest sizes give %.2f (where the two orders differ, the coarsest size is not in "
                      "the asymptotic range)." % q)
@@ -144,14 +140,8 @@ def study_block(out, entry):
     k = kind(s)
     if k:
         alt = "%s, %s" % (ALT[k], entry["study"])
-        try:
-            png = DRAW[k](s)
-        except Exception as e:  # noqa: BLE001 - a broken figure skips the figure only
-            plt.close("all")
-            print("make_report: study %s, figure skipped: %s: %s" % (entry["study"], type(e).__name__, e),
-                  file=sys.stderr)
-            png, why = None, "%s: figure skipped (%s: %s)" % (alt, type(e).__name__, e)
-        else:
+        png, why = draw_or_skip(lambda: DRAW[k](s), alt, "study " + entry["study"])
+        if not png and not why:
             why = "%s: not drawn, no finished run has the values" % alt
         fh, fm = (figure(out, "report_files/study_%s_%s.png" % (entry["study"], k), png, alt, caption(s, k))
                   if png else note(why))

@@ -9,7 +9,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "curve_comparison.hpp"
 #include "io/variants.hpp"
 #include "results.hpp"
 
@@ -28,13 +27,6 @@ struct ReadExpectation {
   Expectation e;
   std::vector<ReadMeasure> measures;
 };
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // The case's own formulation (run.formulation), so that a reference naming
 // it is the same run as one that does not.
@@ -85,7 +77,8 @@ ReadExpectation read_expect(CaseSection t, const std::string& case_file) {
       r.reference.case_file = ref.empty() ? case_file : (dir / ref).lexically_normal().string();
       if (!fs::exists(r.reference.case_file)) s.fail("reference_case", "no such file: " + r.reference.case_file);
       r.reference.formulation = s.text("reference_formulation", "");
-      if (r.reference.formulation == own_formulation(r.reference.case_file)) r.reference.formulation.clear();
+      if (!r.reference.formulation.empty() && r.reference.formulation == own_formulation(r.reference.case_file))
+        r.reference.formulation.clear();
       if (s.has("reference_set")) r.reference.overrides = s.text_array("reference_set", "overrides \"key.path=value\"");
     } else {
       m.column = m.what == "summary" ? s.text("key", std::nullopt) : s.text("column", std::nullopt);
@@ -136,11 +129,6 @@ double largest_magnitude(const std::vector<double>& v) {
   return m;
 }
 
-std::vector<double> magnitudes(std::vector<double> v) {
-  for (double& x : v) x = std::abs(x);
-  return v;
-}
-
 // The measured value of m on the run in dir.
 double measure(const ExpectedCase& c, const ExpectedMeasure& m, const std::string& dir, const std::string& runs_dir) {
   if (m.what == "summary") {
@@ -151,12 +139,10 @@ double measure(const ExpectedCase& c, const ExpectedMeasure& m, const std::strin
   const History a = read_history(dir + "/history.csv");
   if (m.what == "history_max") return largest_magnitude(a.at(m.column));
   const std::string ref_dir = runs_dir + "/" + c.runs[m.reference].label;
-  if (summary_string(ref_dir, "status").value_or("") != "finished")
+  if (!run_finished(ref_dir))
     throw std::runtime_error("the reference run " + describe(c.runs[m.reference]) + " did not finish");
   const History b = read_history(ref_dir + "/history.csv");
-  return curve_difference(a.at("stroke"), magnitudes(a.at(m.column)), b.at("stroke"),
-                          magnitudes(b.at(m.reference_load)), m.from, m.stroke_tolerance)
-      .worst;
+  return load_difference(a, m.column, b, m.reference_load, m.from, m.stroke_tolerance);
 }
 
 std::string sci(double x) {
@@ -226,12 +212,13 @@ ExpectationResult evaluate_expectation(const ExpectedCase& c, const Expectation&
   r.run = run.label;
   const std::string dir = runs_dir + "/" + run.label;
   std::vector<std::string> failed;
-  const std::string status = summary_string(dir, "status").value_or("no summary.json");
+  const Summary summary(dir);
+  const std::string status = summary.string("status").value_or("no summary.json");
   if (status != e.outcome) failed.push_back("outcome " + status + ", expected " + e.outcome);
-  const std::string reason = summary_string(dir, "reason").value_or("");
+  const std::string reason = summary.string("reason").value_or("");
   for (const auto& w : e.reason_contains)
     if (!contains(reason, w)) failed.push_back("the stop reason lacks '" + w + "': " + reason);
-  const std::vector<std::string> warnings = summary_strings(dir, "warnings");
+  const std::vector<std::string> warnings = summary.strings("warnings");
   for (const auto& w : e.warnings)
     if (std::none_of(warnings.begin(), warnings.end(), [&](const std::string& x) { return contains(x, w); }))
       failed.push_back("no warning contains '" + w + "'");
@@ -244,7 +231,8 @@ ExpectationResult evaluate_expectation(const ExpectedCase& c, const Expectation&
     v.name = m.what + " " + m.column;
     if (m.reference >= 0) {
       v.name += " vs " + describe(c.runs[m.reference]);
-      dirs.push_back(runs_dir + "/" + c.runs[m.reference].label);
+      const std::string d = runs_dir + "/" + c.runs[m.reference].label;
+      if (std::find(dirs.begin(), dirs.end(), d) == dirs.end()) dirs.push_back(d);
     }
     try {
       v.value = measure(c, m, dir, runs_dir);

@@ -3,10 +3,13 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "curve_comparison.hpp"
 
 namespace rpfem {
 
@@ -59,6 +62,13 @@ std::string json_string(const std::string& text, std::size_t& at) {
   return out;
 }
 
+std::vector<double> magnitudes(std::vector<double> v) {
+  for (double& x : v) x = std::abs(x);
+  return v;
+}
+
+}  // namespace
+
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
   std::stringstream ss;
@@ -66,32 +76,50 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-}  // namespace
+bool run_finished(const std::string& run_dir) { return summary_string(run_dir, "status").value_or("") == "finished"; }
 
-std::optional<std::string> summary_string(const std::string& run_dir, const std::string& key) {
-  const std::string s = read_text(run_dir + "/summary.json");
-  auto v = summary_value_at(s, key);
-  if (v == std::string::npos || s[v] != '"') return std::nullopt;
-  return json_string(s, v);
+double load_difference(const History& run, const std::string& column, const History& ref,
+                       const std::string& ref_column, double from, double stroke_tolerance) {
+  return curve_difference(run.at("stroke"), magnitudes(run.at(column)), ref.at("stroke"), magnitudes(ref.at(ref_column)),
+                          from, stroke_tolerance)
+      .worst;
 }
 
-std::vector<std::string> summary_strings(const std::string& run_dir, const std::string& key) {
-  const std::string s = read_text(run_dir + "/summary.json");
+Summary::Summary(const std::string& run_dir) : text_(read_text(run_dir + "/summary.json")) {}
+
+std::optional<std::string> Summary::string(const std::string& key) const {
+  auto v = summary_value_at(text_, key);
+  if (v == std::string::npos || text_[v] != '"') return std::nullopt;
+  return json_string(text_, v);
+}
+
+std::vector<std::string> Summary::strings(const std::string& key) const {
   std::vector<std::string> out;
-  auto v = summary_value_at(s, key);
-  if (v == std::string::npos || s[v] != '[') return out;
-  for (++v; v < s.size() && s[v] != ']'; ++v)
-    if (s[v] == '"') out.push_back(json_string(s, v));
+  auto v = summary_value_at(text_, key);
+  if (v == std::string::npos || text_[v] != '[') return out;
+  for (++v; v < text_.size() && text_[v] != ']'; ++v)
+    if (text_[v] == '"') out.push_back(json_string(text_, v));
   return out;
 }
 
-std::optional<double> summary_number(const std::string& run_dir, const std::string& key) {
-  const std::string s = read_text(run_dir + "/summary.json");
-  const auto v = summary_value_at(s, key);
+std::optional<double> Summary::number(const std::string& key) const {
+  const auto v = summary_value_at(text_, key);
   if (v == std::string::npos) return std::nullopt;
   char* end = nullptr;
-  const double x = std::strtod(s.c_str() + v, &end);
-  return end == s.c_str() + v ? std::nullopt : std::optional<double>(x);
+  const double x = std::strtod(text_.c_str() + v, &end);
+  return end == text_.c_str() + v ? std::nullopt : std::optional<double>(x);
+}
+
+std::optional<std::string> summary_string(const std::string& run_dir, const std::string& key) {
+  return Summary(run_dir).string(key);
+}
+
+std::vector<std::string> summary_strings(const std::string& run_dir, const std::string& key) {
+  return Summary(run_dir).strings(key);
+}
+
+std::optional<double> summary_number(const std::string& run_dir, const std::string& key) {
+  return Summary(run_dir).number(key);
 }
 
 History read_history(const std::string& csv_path) {

@@ -15,9 +15,32 @@ struct History {
 };
 History read_history(const std::string& csv_path);
 
-// A value of the run's summary.json by its key path (a top-level key, or
-// keys joined by '.': "derived.reference_speed_mm_s"), or nothing if absent,
-// of another type or unreadable.
+// The largest relative difference of |run[column]| from |ref[ref_column]|
+// over the run's strokes from `from` mm (curve_comparison.hpp: the
+// reference interpolated linearly, `stroke_tolerance` mm of shift allowed).
+double load_difference(const History& run, const std::string& column, const History& ref,
+                       const std::string& ref_column, double from, double stroke_tolerance);
+
+// A whole text file ("" if unreadable).
+std::string read_text(const std::string& path);
+// Whether the run's summary.json says it finished.
+bool run_finished(const std::string& run_dir);
+
+// A run's summary.json, read once; a value by its key path (a top-level
+// key, or keys joined by '.': "derived.reference_speed_mm_s"), or nothing
+// if absent, of another type or unreadable.
+class Summary {
+ public:
+  explicit Summary(const std::string& run_dir);
+  bool exists() const { return !text_.empty(); }
+  std::optional<std::string> string(const std::string& key) const;
+  std::optional<double> number(const std::string& key) const;
+  std::vector<std::string> strings(const std::string& key) const;  // an array of strings; empty if absent
+
+ private:
+  std::string text_;
+};
+// One value, reading the file for it.
 std::optional<std::string> summary_string(const std::string& run_dir, const std::string& key);
 std::optional<double> summary_number(const std::string& run_dir, const std::string& key);
 // An array of strings (e.g. "warnings"); empty if absent.

@@ -4,10 +4,7 @@
 #include <cstdio>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
-#include "curve_comparison.hpp"
 #include "io/case_file.hpp"
 #include "results.hpp"
 
@@ -49,19 +46,11 @@ std::string run_dir(const std::string& suite, const std::string& scene, const st
   return suite + "/" + scene + "/" + f + (variant.empty() ? "" : "/" + variant);
 }
 
-bool finished(const std::string& dir) { return summary_string(dir, "status").value_or("") == "finished"; }
-
 // The largest value (a non-finite one counts as infinite: it fails any check).
 double largest(const std::vector<double>& v) {
   double m = 0;
   for (double x : v) m = std::max(m, std::isfinite(x) ? x : INFINITY);
   return m;
-}
-
-std::vector<double> magnitudes(const std::vector<double>& v) {
-  std::vector<double> out(v.size());
-  std::transform(v.begin(), v.end(), out.begin(), [](double x) { return std::abs(x); });
-  return out;
 }
 
 }  // namespace
@@ -75,7 +64,7 @@ std::vector<CheckResult> evaluate_suite_checks(const std::string& suite_dir, con
     try {
       if (!std::filesystem::exists(dir + "/history.csv")) throw std::runtime_error("no run in " + dir);
       if (c.metric == "finished") {
-        r.value = finished(dir) ? 1 : 0;
+        r.value = run_finished(dir) ? 1 : 0;
         r.pass = r.value == 1;
       } else if (c.metric == "history_max") {
         const History h = read_history(dir + "/history.csv");
@@ -99,9 +88,7 @@ std::vector<CheckResult> evaluate_suite_checks(const std::string& suite_dir, con
       } else {
         const History a = read_history(dir + "/history.csv");
         const History b = read_history(run_dir(suite_dir, c.reference_scene, c.reference) + "/history.csv");
-        r.value = curve_difference(a.at("stroke"), magnitudes(a.at(c.column)), b.at("stroke"),
-                                   magnitudes(b.at(c.reference_load)), c.from, c.stroke_tolerance)
-                      .worst;
+        r.value = load_difference(a, c.column, b, c.reference_load, c.from, c.stroke_tolerance);
         r.pass = r.value <= c.tolerance;
       }
     } catch (const std::exception& e) {

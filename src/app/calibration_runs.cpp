@@ -1,6 +1,5 @@
 #include "app/calibration_runs.hpp"
 
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +8,7 @@
 #include <sstream>
 
 #include "app/optimize_1d.hpp"
+#include "app/run_pool.hpp"
 #include "app/subprocess.hpp"
 #include "core/version.hpp"
 #include "io/result_writer.hpp"
@@ -16,12 +16,6 @@
 namespace fs = std::filesystem;
 
 namespace rpfem {
-
-std::string exact_text(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
 
 namespace {
 
@@ -76,16 +70,13 @@ Evaluation CachedRuns::evaluate(double value, bool* cached) {
   std::snprintf(name, sizeof name, "evals/%03d", e.index);
   e.dir = name;
   const std::string dir = (fs::path(spec_.out_dir) / e.dir).string();
-  fs::create_directories(dir);
-  std::string cmd = shell_quote(self_) + " run " + shell_quote(spec_.case_file) + " --out " + shell_quote(dir) +
-                    " --quiet";
-  if (!spec_.formulation.empty()) cmd += " --formulation " + shell_quote(spec_.formulation);
-  for (const auto& o : spec_.overrides) cmd += " --set " + shell_quote(o);
-  cmd += " --set " + shell_quote(spec_.key + "=" + exact_text(value));
-  cmd += " > " + shell_quote(dir + "/run.log") + " 2>&1";
-  const auto t0 = std::chrono::steady_clock::now();
-  const int rc = run_shell(cmd);
-  e.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  PoolRun run;
+  run.case_file = spec_.case_file, run.formulation = spec_.formulation, run.dir = dir;
+  run.overrides = spec_.overrides;
+  run.overrides.push_back(spec_.key + "=" + exact_text(value));
+  run_one(run, self_);
+  e.wall_s = run.seconds;
+  const int rc = run.rc;
   if (rc != 0)
     throw RunFailed("evaluation " + std::to_string(e.index) + " (" + spec_.key + " = " + exact_text(value) +
                     "): the run " + (rc == 3 ? "stopped early" : "failed") + " (exit " + std::to_string(rc) +

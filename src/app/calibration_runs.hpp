@@ -52,7 +52,6 @@ class CachedRuns {
   Evaluation evaluate(double value, bool* cached = nullptr);
   const std::vector<Evaluation>& all() const { return done_; }
   int requests() const { return requests_; }  // evaluate() calls, cached ones included
-  const RunSpec& spec() const { return spec_; }
 
  private:
   RunSpec spec_;
@@ -99,8 +98,5 @@ class CalibrationLog {
 
 // The number the case uses at key (after its overrides), if it uses one.
 std::optional<double> used_number(const CaseFile& file, const std::string& key);
-
-// The shortest decimal text that reads back as v (for --set and output).
-std::string exact_text(double v);
 
 }  // namespace rpfem

@@ -4,6 +4,7 @@
 #include "factory.hpp"
 #include "io/variants.hpp"
 #include "io/scene_reader.hpp"
+#include "model/boundary.hpp"
 
 namespace rpfem {
 
@@ -18,6 +19,13 @@ PreparedCase prepare_case(const std::string& case_file, const std::vector<std::s
   c.contact = make_formulation(formulation.empty() ? c.scene->formulation : formulation, *c.file, *c.scene);
   c.file->finish();
   return c;
+}
+
+std::vector<std::string> load_columns(const PreparedCase& c) {
+  std::vector<std::string> names = KernelConstraints(*c.scene).load_names(), out;
+  for (const auto& n : c.contact->load_names()) names.push_back(n);
+  for (const auto& n : names) out.insert(out.end(), {n + ".Fx", n + ".Fy"});
+  return out;
 }
 
 }  // namespace rpfem

@@ -27,4 +27,8 @@ struct PreparedCase {
 PreparedCase prepare_case(const std::string& case_file, const std::vector<std::string>& overrides,
                           const std::string& formulation);
 
+// The load columns its history.csv will have: NAME.Fx and NAME.Fy for every
+// velocity group and every load the formulation reports (its dies).
+std::vector<std::string> load_columns(const PreparedCase& c);
+
 }  // namespace rpfem

@@ -50,7 +50,8 @@ Optimum minimize_1d(const Search1D& s, const std::function<double(double)>& f,
   Optimum out;
   nlopt::result rc;
   try {
-    rc = opt.optimize(x, out.f);
+    double f = 0;
+    rc = opt.optimize(x, f);
   } catch (const nlopt::forced_stop&) {
     if (cb.error) std::rethrow_exception(cb.error);
     rc = nlopt::FORCED_STOP;

@@ -17,7 +17,7 @@ struct Search1D {
 };
 
 struct Optimum {
-  double x = 0, f = 0;
+  double x = 0;
   int result = 0;           // NLopt's return code (> 0 success)
   std::string result_name;  // e.g. XTOL_REACHED
 };

@@ -46,7 +46,7 @@ RunObserver::RunObserver(const Scene& scene, const std::string& dir, toml::table
   summary_.insert_or_assign("monitors", mons);
   writer_ = std::make_unique<ResultWriter>(dir_, scene_.mesh, to_json(summary_));
   const auto& s = scene_.stepping;
-  expected_steps_ = std::max(1, static_cast<int>(std::ceil(s.end_stroke / s.stroke_increment - 1e-9)));
+  expected_steps_ = s.planned_steps();
 }
 
 void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::string>& load_names,

@@ -109,6 +109,18 @@ void print_progress(const std::vector<PoolRun>& runs, const std::vector<Slot>& s
 
 }  // namespace
 
+void run_one(PoolRun& r, const std::string& self) {
+  fs::create_directories(r.dir);
+  std::string cmd = shell_quote(self) + " run " + shell_quote(r.case_file) + " --out " + shell_quote(r.dir) + " --quiet";
+  if (!r.formulation.empty()) cmd += " --formulation " + shell_quote(r.formulation);
+  if (!r.variant.empty()) cmd += " --variant " + shell_quote(r.variant);
+  for (const auto& o : r.overrides) cmd += " --set " + shell_quote(o);
+  cmd += " > " + shell_quote(r.dir + "/run.log") + " 2>&1";
+  const auto s0 = Clock::now();
+  r.rc = run_shell(cmd);
+  r.seconds = std::chrono::duration<double>(Clock::now() - s0).count();
+}
+
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
   const std::string self = self_executable();
   const int workers = std::max(1, jobs > 0 ? jobs : static_cast<int>(std::thread::hardware_concurrency()));
@@ -120,24 +132,16 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   auto work = [&] {
     for (std::size_t i; (i = next++) < runs.size();) {
-      PoolRun& j = runs[i];
-      fs::create_directories(j.dir);
-      std::string cmd = shell_quote(self) + " run " + shell_quote(j.case_file) + " --out " + shell_quote(j.dir) +
-                        " --quiet";
-      if (!j.formulation.empty()) cmd += " --formulation " + shell_quote(j.formulation);
-      if (!j.variant.empty()) cmd += " --variant " + shell_quote(j.variant);
-      for (const auto& o : j.overrides) cmd += " --set " + shell_quote(o);
-      cmd += " > " + shell_quote(j.dir + "/run.log") + " 2>&1";
-      const auto s0 = Clock::now();
       {
         std::lock_guard<std::mutex> lock(print);
-        slots[i].start = s0;
+        slots[i].start = Clock::now();
         slots[i].running = true;
       }
-      const int rc = run_shell(cmd);
+      PoolRun r = runs[i];  // run outside the lock; the results copied back under it
+      run_one(r, self);
       std::lock_guard<std::mutex> lock(print);
-      j.seconds = std::chrono::duration<double>(Clock::now() - s0).count();
-      j.rc = rc;
+      PoolRun& j = runs[i];
+      j.rc = r.rc, j.seconds = r.seconds;
       slots[i].ended = true;
       slots[i].running = false;
       const int k = ++done;

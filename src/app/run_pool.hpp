@@ -23,4 +23,9 @@ struct PoolRun {
 
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet);
 
+// One `rpfem run` of the executable `self` into r.dir (created; its log in
+// r.dir/run.log): fills r.rc and r.seconds. The pool's worker, and
+// `rpfem calibrate`'s evaluations.
+void run_one(PoolRun& r, const std::string& self);
+
 }  // namespace rpfem

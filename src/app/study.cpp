@@ -1,7 +1,6 @@
 #include "app/study.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 
 #include "core/types.hpp"
@@ -14,25 +13,12 @@ namespace rpfem {
 
 namespace {
 
-std::string toml_number(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  std::string s = buf;
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // a TOML float
-  return s;
-}
-
 std::vector<std::string> optional_texts(CaseSection& s, const std::string& key, const std::string& what) {
   return s.has(key) ? s.text_array(key, what) : std::vector<std::string>{};
 }
 
 void check_formulation(const CaseSection& s, const std::string& key, const std::string& name) {
-  std::string known;
-  for (const auto& f : formulations()) {
-    if (f.name == name) return;
-    known += (known.empty() ? "" : ", ") + f.name;
-  }
-  s.fail(key, "a formulation (" + known + "), got '" + name + "'");
+  if (!find_formulation(name)) s.fail(key, "a formulation (" + formulation_names() + "), got '" + name + "'");
 }
 
 }  // namespace
@@ -71,7 +57,7 @@ Study read_study(const std::string& path, const std::string& cases_dir, bool qui
       auto v = a.real_array("values", -1, "the values of " + ax.key);
       const auto q = has_quick ? a.real_array("quick", -1, "the values of " + ax.key + " under --quick") : v;
       ax.numbers = quick ? q : v;
-      for (double x : ax.numbers) ax.values.push_back(toml_number(x));
+      for (double x : ax.numbers) ax.values.push_back(exact_text(x));
     }
     st.axes.push_back(ax);
   }

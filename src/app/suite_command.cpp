@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <toml++/toml.h>
@@ -44,8 +43,8 @@ std::vector<std::string> applicable(const Scene& scene) {
 std::vector<Job> plan(const SuiteOptions& opt) {
   const std::vector<fs::path> files = case_files(opt.cases_dir, opt.scenes, "scene");
   for (const auto& f : opt.formulations)
-    if (std::none_of(formulations().begin(), formulations().end(), [&](const auto& x) { return x.name == f; }))
-      throw InputError("--formulation: '" + f + "' is unknown");
+    if (!find_formulation(f))
+      throw InputError("--formulation: '" + f + "' is unknown; expected one of: " + formulation_names());
   std::vector<Job> jobs;
   for (const auto& path : files) {
     const std::string name = path.stem().string();
@@ -59,13 +58,12 @@ std::vector<Job> plan(const SuiteOptions& opt) {
         continue;
       const std::string dir = opt.out_dir + "/" + name + "/" + f;
       const auto& st = scene.stepping;
-      const int steps = std::max(1, static_cast<int>(std::ceil(st.end_stroke / st.stroke_increment - 1e-9)));
       auto add = [&](const std::string& variant, const std::string& d) {
         Job j;
         j.label = name + " " + f + (variant.empty() ? "" : " " + variant);
         j.case_name = name, j.case_file = path.string(), j.formulation = f, j.variant = variant, j.dir = d;
         j.overrides = opt.overrides;
-        j.end_stroke = st.end_stroke, j.steps = steps;
+        j.end_stroke = st.end_stroke, j.steps = st.planned_steps();
         jobs.push_back(j);
       };
       add("", dir);
@@ -161,7 +159,7 @@ int suite_command(const SuiteOptions& options) {
     const std::string script = std::string(RPFEM_SOURCE_DIR) + "/reports/make_report.py";
     const std::string cmd = "/usr/bin/python3 " + shell_quote(script) + " " + shell_quote(opt.out_dir) +
                             " > /dev/null";
-    if (std::system(cmd.c_str()) != 0) {
+    if (run_shell(cmd) != 0) {
       std::fprintf(stderr, "rpfem suite: the report failed (%s)\n", cmd.c_str());
       return 3;
     }

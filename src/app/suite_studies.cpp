@@ -22,15 +22,15 @@ std::vector<SweepPlan> plan_studies(const SuiteOptions& opt) {
     const std::string name = path.stem().string();
     SweepOptions s;
     s.study_file = path.string(), s.cases_dir = opt.cases_dir, s.out_dir = opt.out_dir + "/studies/" + name;
-    s.jobs = opt.jobs, s.quick = opt.quick, s.quiet = opt.quiet;
+    s.quick = opt.quick, s.quiet = opt.quiet;  // its runs go to the suite's pool
     if (!opt.studies.empty()) {
       if (named(opt.studies, name)) plans.push_back(plan_sweep(s));
       continue;
     }
-    SweepPlan p = plan_sweep(s);
-    const std::string scene = fs::path(p.study.case_file).stem().string();
+    // The study's scene from its file alone: a study left out is not planned.
+    const std::string scene = fs::path(read_study(s.study_file, s.cases_dir, s.quick).case_file).stem().string();
     if (opt.scenes.empty() || named(opt.scenes, scene))
-      plans.push_back(std::move(p));
+      plans.push_back(plan_sweep(s));
     else
       left_out += (left_out.empty() ? "" : ", ") + name + " (" + scene + ")";
   }

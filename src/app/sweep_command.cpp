@@ -10,13 +10,13 @@
 
 #include <toml++/toml.h>
 
+#include "app/case_setup.hpp"
 #include "app/run_pool.hpp"
 #include "app/study.hpp"
 #include "core/types.hpp"
 #include "core/version.hpp"
 #include "io/case_file.hpp"
 #include "io/result_writer.hpp"
-#include "io/scene_reader.hpp"
 #include "io/table_writer.hpp"
 #include "results.hpp"
 #include "sweep_metrics.hpp"
@@ -62,13 +62,20 @@ void grid(SweepPlan& plan) {
   }
 }
 
-// End stroke and planned steps for progress lines (and an early check of
-// every run's overrides: bad input stops the sweep before it starts).
-void plan_progress(PoolRun& r) {
-  CaseFile file(r.case_file, r.overrides);
-  const Scene scene = read_scene(file);
-  r.end_stroke = scene.stepping.end_stroke;
-  r.steps = std::max(1, static_cast<int>(std::ceil(r.end_stroke / scene.stepping.stroke_increment - 1e-9)));
+// Each run's case read and validated as `rpfem run` will read it (bad
+// input, the study's load column among them, stops the sweep before it
+// starts), and its end stroke and planned steps for progress lines.
+void plan_run(PoolRun& r, const Study& st) {
+  const PreparedCase pc = prepare_case(r.case_file, r.overrides, r.formulation);
+  const auto loads = load_columns(pc);
+  if (std::find(loads.begin(), loads.end(), st.load) == loads.end()) {
+    std::string known;
+    for (const auto& l : loads) known += (known.empty() ? "" : ", ") + l;
+    throw InputError(st.file + ": key 'study.load': '" + st.load + "' is no load column of " + r.label +
+                     "; expected one of: " + known);
+  }
+  r.end_stroke = pc.scene->stepping.end_stroke;
+  r.steps = pc.scene->stepping.planned_steps();
 }
 
 History history_or_empty(const std::string& dir) {
@@ -108,13 +115,14 @@ Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
   const History h = history_or_empty(r.dir);
   if (h.rows() > 0) o.m = run_metrics(h, st.load), o.mean_load = mean_load(h, st.load, st.from);
   if (ref.rows() > 1 && h.rows() > 1) o.err = load_error(h, ref, st.load, st.from);
-  const auto status = summary_string(r.dir, "status");
+  const Summary s(r.dir);
+  const auto status = s.string("status");
   o.finished = status.value_or("") == "finished" && r.rc == 0;
-  o.reason = status ? summary_string(r.dir, "reason").value_or("") : "no summary.json (exit " + std::to_string(r.rc) + ")";
+  o.reason = status ? s.string("reason").value_or("") : "no summary.json (exit " + std::to_string(r.rc) + ")";
   for (char& c : o.reason)
     if (c == ',' || c == '"' || c == '\n') c = ';';  // one CSV cell
-  o.per_step = summary_number(r.dir, "time_per_step_s").value_or(-1.0);
-  o.formulation = r.formulation.empty() ? summary_string(r.dir, "formulation").value_or("") : r.formulation;
+  o.per_step = s.number("time_per_step_s").value_or(-1.0);
+  o.formulation = r.formulation.empty() ? s.string("formulation").value_or("") : r.formulation;
   return o;
 }
 
@@ -145,13 +153,12 @@ SweepPlan plan_sweep(const SweepOptions& opt) {
     ref.overrides.insert(ref.overrides.end(), opt.overrides.begin(), opt.overrides.end());
     plan.runs.push_back(ref);
   }
-  for (auto& r : plan.runs) plan_progress(r);
+  for (auto& r : plan.runs) plan_run(r, st);
   return plan;
 }
 
 int sweep_command(const SweepOptions& opt) {
   SweepPlan plan = plan_sweep(opt);
-  fs::create_directories(opt.out_dir);
   if (!opt.quiet)
     std::printf("rpfem sweep %s: %s, results in %s\n", plan.study.name.c_str(), plan.study.description.c_str(),
                 opt.out_dir.c_str());

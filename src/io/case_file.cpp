@@ -1,6 +1,7 @@
 #include "io/case_file.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <functional>
 #include <filesystem>
@@ -275,6 +276,12 @@ std::vector<CaseSection> CaseSection::table_array(const std::string& key) {
   for (std::size_t i = 0; i < a->size(); ++i)
     out.push_back(CaseSection(file_, a->get(i)->as_table(), full(key) + "." + std::to_string(i)));
   return out;
+}
+
+std::string exact_text(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 }  // namespace rpfem

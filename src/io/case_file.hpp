@@ -88,4 +88,9 @@ class CaseFile {
   std::set<std::string> visited_;
 };
 
+// The shortest decimal text that reads back as v: an override's value
+// (--set key=TEXT; a whole number reads as an integer, which a real key
+// accepts too) and numbers shown to the user.
+std::string exact_text(double v);
+
 }  // namespace rpfem

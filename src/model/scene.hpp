@@ -4,6 +4,7 @@
 // kept here unparsed for the formulation factory. Defaults: docs/case-format.md.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,6 +81,10 @@ struct SteppingSpec {
   int max_cuts = 6;               // halvings of a failing step
   int output_every = 1;           // fields written every k steps (and the last)
   TimeIntegration integration = TimeIntegration::Euler;
+  // Steps at the nominal increment (a last short step counts as one).
+  int planned_steps() const {
+    return std::max(1, static_cast<int>(std::ceil(end_stroke / stroke_increment - 1e-9)));
+  }
 };
 
 struct Scene {

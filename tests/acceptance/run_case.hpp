@@ -8,6 +8,7 @@
 #include <string>
 
 #include "material/flow_stress.hpp"
+#include "results.hpp"
 
 namespace rpfem::accept {
 
@@ -20,14 +21,23 @@ inline std::string test_out_dir(const std::string& suffix = "") {
   return out;
 }
 
+// Runs `rpfem ARGS` (ARGS quoted for the shell by the caller); with a log
+// path its output goes there and, given `output`, is read back. The exit
+// code, -1 if it did not exit normally.
+inline int rpfem(const std::string& args, const std::string& log = "", std::string* output = nullptr) {
+  const std::string cmd = std::string(RPFEM_BINARY) + " " + args + (log.empty() ? "" : " > " + log + " 2>&1");
+  const int status = std::system(cmd.c_str());
+  if (output) *output = read_text(log);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 // Runs cases/<name>.toml with extra options; expects exit code `rc`.
 inline std::string run_case(const std::string& name, const std::string& extra = "", int rc = 0,
                             const std::string& suffix = "") {
   const std::string out = test_out_dir(suffix);
-  const std::string cmd = std::string(RPFEM_BINARY) + " run " + RPFEM_SOURCE_DIR + "/cases/" + name +
-                          ".toml --out " + out + " --quiet " + extra;
-  const int status = std::system(cmd.c_str());
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == rc) << cmd;
+  const std::string args = "run " + std::string(RPFEM_SOURCE_DIR) + "/cases/" + name + ".toml --out " + out +
+                           " --quiet " + extra;
+  EXPECT_EQ(rpfem(args), rc) << args;
   return out;
 }
 

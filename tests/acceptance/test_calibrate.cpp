@@ -26,10 +26,9 @@ const std::string kRing = "--set run.mesh_factor=0.5";
 // Runs `rpfem calibrate` on a shipped case; expects exit code 0.
 std::string calibrate(const std::string& name, const std::string& args) {
   const std::string out = accept::test_out_dir("_calibration");
-  const std::string cmd = std::string(RPFEM_BINARY) + " calibrate " + RPFEM_SOURCE_DIR + "/cases/" + name +
-                          ".toml --out " + out + " --quiet " + args;
-  const int status = std::system(cmd.c_str());
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  const std::string cmd = "calibrate " + std::string(RPFEM_SOURCE_DIR) + "/cases/" + name + ".toml --out " + out +
+                          " --quiet " + args;
+  EXPECT_EQ(accept::rpfem(cmd), 0) << cmd;
   return out;
 }
 
@@ -83,10 +82,7 @@ void expect_recovered(const Fit& f, const char* what, double truth, double clear
 }
 
 bool finished(const std::string& out) {
-  std::ifstream in(out + "/calibration.json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str().find("\"status\" : \"finished\"") != std::string::npos;
+  return read_text(out + "/calibration.json").find("\"status\" : \"finished\"") != std::string::npos;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include "expectations.hpp"
 #include "results.hpp"
+#include "run_case.hpp"
 
 using namespace rpfem;
 namespace fs = std::filesystem;
@@ -37,11 +38,9 @@ std::string quoted(const std::string& s) {
 
 // Runs one of the plan's runs into dir; returns the exit code (-1: killed).
 int run(const ExpectedRun& r, const std::string& dir) {
-  std::string cmd = std::string(RPFEM_BINARY) + " run";
-  for (const auto& a : r.arguments()) cmd += " " + quoted(a);
-  cmd += " --out " + quoted(dir) + " > " + quoted(dir + ".log") + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::string args = "run";
+  for (const auto& a : r.arguments()) args += " " + quoted(a);
+  return accept::rpfem(args + " --out " + quoted(dir), quoted(dir + ".log"));
 }
 
 // What the report needs of each run: outcome, steps, iterations, the least
@@ -54,16 +53,14 @@ void print_run(const std::string& name, const std::string& dir) {
     dv = std::max(dv, std::abs(h.at("volume_change")[i]));
     if (h.data.count("max_penetration_rel")) pen = std::max(pen, h.at("max_penetration_rel")[i]);
   }
+  const Summary s(dir);
   std::printf("[measured] %s: %s, %d steps to %.3g mm, %g Newton iterations (at most %g per step), "
               "min rcond %.2g, max penetration / h %.2g, max |volume change| %.2g, %.2f s\n",
-              name.c_str(), summary_string(dir, "status").value_or("?").c_str(),
-              static_cast<int>(summary_number(dir, "steps").value_or(-1)),
-              summary_number(dir, "final_stroke_mm").value_or(0),
-              summary_number(dir, "total_newton_iterations").value_or(0), its,
-              summary_number(dir, "min_tangent_rcond").value_or(-1), pen, dv,
-              summary_number(dir, "wall_time_s").value_or(0));
-  if (const auto reason = summary_string(dir, "reason")) std::printf("[measured]   reason: %s\n", reason->c_str());
-  for (const auto& w : summary_strings(dir, "warnings")) std::printf("[measured]   warning: %s\n", w.c_str());
+              name.c_str(), s.string("status").value_or("?").c_str(), static_cast<int>(s.number("steps").value_or(-1)),
+              s.number("final_stroke_mm").value_or(0), s.number("total_newton_iterations").value_or(0), its,
+              s.number("min_tangent_rcond").value_or(-1), pen, dv, s.number("wall_time_s").value_or(0));
+  if (const auto reason = s.string("reason")) std::printf("[measured]   reason: %s\n", reason->c_str());
+  for (const auto& w : s.strings("warnings")) std::printf("[measured]   warning: %s\n", w.c_str());
 }
 
 class Extremes : public ::testing::TestWithParam<std::string> {};

@@ -87,16 +87,7 @@ std::string write_case(const std::string& dir, const std::string& text) {
 }
 
 int run(const std::string& case_path, const std::string& out, const std::string& extra, std::string* log = nullptr) {
-  const std::string cmd =
-      std::string(RPFEM_BINARY) + " run " + case_path + " --out " + out + " --quiet " + extra + " > " + out + ".log 2>&1";
-  const int status = std::system(cmd.c_str());
-  if (log) {
-    std::ifstream in(out + ".log");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    *log = ss.str();
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return accept::rpfem("run " + case_path + " --out " + out + " --quiet " + extra, out + ".log", log);
 }
 
 }  // namespace

@@ -65,23 +65,12 @@ struct Result {
 };
 
 Result run_rpfem(const std::string& args, const std::string& log) {
-  const std::string cmd = std::string(RPFEM_BINARY) + " " + args + " > " + log + " 2>&1";
-  const int status = std::system(cmd.c_str());
   Result r;
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(log);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  r.output = ss.str();
+  r.rc = accept::rpfem(args, log, &r.output);
   return r;
 }
 
-std::string text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string text(const std::string& path) { return read_text(path); }
 
 // A numeric column of a study's table (its sweep.h5).
 std::vector<double> column(const std::string& study_dir, const std::string& name) {

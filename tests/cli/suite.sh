@@ -18,6 +18,8 @@ for f in direct penalty ipopt; do
 done
 [ "$(grep -c '"exit_code" : 0' "$tmp/o/suite.json")" -eq 3 ] || { echo "FAIL: a run did not finish"; exit 1; }
 echo "$out" | grep -q "report: .*report.html" || { echo "FAIL: report path not printed"; exit 1; }
+# A cases folder without studies/: none run, the report has no Studies section.
+[ ! -d "$tmp/o/studies" ] && ! grep -q "^## Studies" "$tmp/o/report.md" || { echo "FAIL: a Studies section without studies"; exit 1; }
 grep -q "<img alt='load against stroke, upsetting_dies_frictionless_axisym' src='data:image/png;base64," \
   "$tmp/o/report.html" || { echo "FAIL: figure not embedded"; exit 1; }
 grep -q "| upsetting_dies_frictionless_axisym | penalty | direct |" "$tmp/o/report.md" \

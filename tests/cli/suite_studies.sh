@@ -2,8 +2,8 @@
 # Issue 7: a quick suite runs the shipped Test II studies (their reduced
 # grids) beside one small scene and the report carries their figures and
 # tables: the penalty sensitivity, speed against accuracy, and mesh and step
-# convergence with an observed order. Then a suite without studies still
-# builds its report, with no Studies section. About 40 s on 2 cores.
+# convergence with an observed order (tests/cli/suite.sh: a suite without
+# studies builds its report with no Studies section). About 40 s on 2 cores.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -46,10 +46,4 @@ check "speed against accuracy: penalty's errors against the direct runs' estimat
   '[ "$(awk -F, "NR == 1 { for (i = 1; i <= NF; i++) if (\$i == \"load_error_final\") c = i }
                  NR > 1 && \$3 == \"penalty\" && \$c > 0" "$o/studies/speed_accuracy_test2/sweep.csv" | wc -l)" -eq 3 ]'
 check "the usable window stated" 'grep -q "^Usable beta_factor (penetration / element size <= 0.001" "$o/report.md"'
-# A suite without studies: the report builds, no Studies section.
-"$rpfem" suite --out "$tmp/n" --jobs 2 --quick --scene upsetting_dies_frictionless_axisym --formulation direct \
-  --no-studies --no-variants -q > "$tmp/n.log" 2>&1; rc=$?
-check "no studies: exit 0 ($rc)" '[ $rc -eq 0 ]'
-check "no studies: report without a Studies section" \
-  '[ -s "$tmp/n/report.md" ] && ! grep -q "^## Studies" "$tmp/n/report.md" && [ ! -d "$tmp/n/studies" ]'
 exit $fail

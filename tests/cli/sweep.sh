@@ -63,4 +63,13 @@ sed -e 's/^kind = "formulation"/kind = "richardson"\naxis = "formulations.penalt
 err=$("$rpfem" sweep "$tmp/common.toml" --out "$tmp/bad3" 2>&1); rc=$?
 check "a Richardson reference formulation off the formulation axis: exit 2 ($err)" \
   '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.reference.formulation"'
+# Checked before any run: a load column the scene does not have, an axis key the case does not know.
+sed 's/^load = .*/load = "nosuch.Fy"/' "$tmp/study.toml" > "$tmp/load.toml"
+err=$("$rpfem" sweep "$tmp/load.toml" --out "$tmp/bad4" 2>&1); rc=$?
+check "a load column the scene lacks: exit 2 before any run ($err)" \
+  '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.load" && [ ! -d "$tmp/bad4/runs" ]'
+sed 's/formulations.penalty.beta_factor/formulations.penalty.beta_factr/g' "$tmp/study.toml" > "$tmp/axis.toml"
+err=$("$rpfem" sweep "$tmp/axis.toml" --out "$tmp/bad5" 2>&1); rc=$?
+check "an axis key the case does not know: exit 2 before any run ($err)" \
+  '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "beta_factr" && [ ! -d "$tmp/bad5/runs" ]'
 exit $fail

@@ -12,15 +12,6 @@
 
 using namespace rpfem;
 
-namespace {
-std::string slurp(const std::string& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-}  // namespace
-
 TEST(ResultWriter, WritesStepsAndRefusesNaN) {
   const std::string dir = (std::filesystem::temp_directory_path() / "rpfem_writer_test").string();
   std::filesystem::remove_all(dir);
@@ -65,7 +56,7 @@ TEST(ResultWriter, WritesStepsAndRefusesNaN) {
   EXPECT_EQ(vel[1], -1.0);
   EXPECT_EQ(read_h5_dataset(h5, "/steps/000001/strain")[1], 0.02);
   EXPECT_EQ(read_h5_dataset(h5, "/steps/000000/element/flow_stress")[1], 101.0);
-  const std::string xdmf = slurp(dir + "/result.xdmf");
+  const std::string xdmf = read_text(dir + "/result.xdmf");
   EXPECT_NE(xdmf.find("result.h5:/steps/000000/coordinates"), std::string::npos);
   EXPECT_NE(xdmf.find("result.h5:/steps/000001/strain_rate"), std::string::npos);
   EXPECT_EQ(xdmf.find("000002"), std::string::npos);
@@ -82,5 +73,5 @@ TEST(HistoryWriter, RowsAndValidation) {
   ASSERT_EQ(r.rows(), 2u);
   EXPECT_EQ(r.at("load")[1], -2.25e5);
   write_text_atomically(p, "x\n");
-  EXPECT_EQ(slurp(p), "x\n");
+  EXPECT_EQ(read_text(p), "x\n");
 }

@@ -102,10 +102,7 @@ TEST(TableWriter, CsvAndHdf5HoldTheSameRows) {
   std::filesystem::create_directories(dir);
   write_table_csv((dir / "t.csv").string(), t);
   write_table_h5((dir / "t.h5").string(), t, "{\"study\": \"x\"}");
-  std::ifstream in(dir / "t.csv");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  EXPECT_EQ(ss.str(), "run,formulation,beta\n0,penalty,0.01\n1,ipopt,1e+12\n");
+  EXPECT_EQ(read_text((dir / "t.csv").string()), "run,formulation,beta\n0,penalty,0.01\n1,ipopt,1e+12\n");
   const auto beta = read_h5_dataset((dir / "t.h5").string(), "/table/beta");
   ASSERT_EQ(beta.size(), 2u);
   EXPECT_DOUBLE_EQ(beta[1], 1e12);
