@@ -39,7 +39,7 @@ namespace rpfem {
 
 struct StudyAxis {
   std::string key;
-  std::vector<std::string> values;  // as written into --set (numbers in TOML syntax)
+  std::vector<std::string> values;  // as written into --set (numbers: exact_text, so integer keys take whole values)
   std::vector<double> numbers;      // empty for "formulation"
   bool formulation() const { return key == "formulation"; }
 };
