@@ -17,7 +17,7 @@
 
 #include "mesh/generate.hpp"
 #include "model/step_problem.hpp"
-#include "none/none_formulation.hpp"
+#include "none/no_contact.hpp"
 
 using namespace rpfem;
 

@@ -1,5 +1,10 @@
-// The one place that turns a formulation keyword into an object (after IPC
-// Toolkit's create_broad_phase): nowhere else switches on the keyword.
+// The one place that turns the contact keywords into an object (after IPC
+// Toolkit's create_broad_phase): nowhere else switches on them. A contact
+// treatment is an enforcement (how rows are satisfied) times a
+// discretization (which rows exist), chosen independently:
+//   case:          [contact] enforcement = "...", discretization = "..."
+//                  (run.formulation is the enforcement's older spelling)
+//   command line:  --enforcement (or --formulation), --discretization
 #pragma once
 #include <memory>
 #include <string>
@@ -17,14 +22,41 @@ struct FormulationInfo {
   bool dies = false;    // treats contact with rigid dies
   bool bodies = false;  // treats contact between deformable bodies
 };
+// The enforcements ("none" first).
 const std::vector<FormulationInfo>& formulations();
-// The formulation of that name, nullptr if none.
-const FormulationInfo* find_formulation(const std::string& name);
+// The enforcement of a label "ENFORCEMENT" or "ENFORCEMENT+DISCRETIZATION"
+// (the suite's and the sweeps' name for a combination), nullptr if either
+// part is unknown.
+const FormulationInfo* find_formulation(const std::string& label);
 // The known names, comma-separated (for messages).
 std::string formulation_names();
 
-// Reads the formulation's own case keys from `file`; throws InputError for
-// an unknown name or a combination the scene cannot use.
-std::unique_ptr<ContactFormulation> make_formulation(const std::string& name, CaseFile& file, const Scene& scene);
+struct DiscretizationInfo {
+  std::string name;
+  std::string help;
+  bool between_bodies_only = false;  // differs from the default only between bodies
+};
+const std::vector<DiscretizationInfo>& discretizations();
+const DiscretizationInfo* find_discretization(const std::string& name);
+std::string discretization_names();
+// The discretization a run uses when none is named.
+inline const char* default_discretization() { return "node_to_segment"; }
+
+// The two axes a case chooses (its [contact] table, or run.formulation),
+// each replaced by a non-empty override. Validates the names.
+struct ContactChoice {
+  std::string enforcement, discretization;
+};
+// The label of a combination: the enforcement, with "+DISCRETIZATION" when
+// that is not the default.
+std::string contact_label(const ContactInfo& info);
+// A label split into its axes (the discretization empty if not given).
+ContactChoice parse_contact_label(const std::string& label);
+ContactChoice contact_choice(CaseFile& file, const Scene& scene, const ContactChoice& overrides = {});
+
+// Reads the enforcement's own case keys ([formulations.<name>]) and the
+// discretization's ([contact]); throws InputError for an unknown name or a
+// combination the scene cannot use.
+std::unique_ptr<ContactFormulation> make_contact(CaseFile& file, const Scene& scene, const ContactChoice& overrides = {});
 
 }  // namespace rpfem

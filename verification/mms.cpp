@@ -5,7 +5,7 @@
 #include "fem/quad4.hpp"
 #include "mesh/generate.hpp"
 #include "model/step_problem.hpp"
-#include "none/none_formulation.hpp"
+#include "none/no_contact.hpp"
 
 namespace rpfem {
 

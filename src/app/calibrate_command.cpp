@@ -100,7 +100,7 @@ int fit_curve(const CalibrateOptions& opt) {
                            : ""));
 
   SearchRecord s;
-  s.mode = "fit", s.case_name = pc.scene->name, s.formulation = pc.contact->name(), s.key = opt.param;
+  s.mode = "fit", s.case_name = pc.scene->name, s.formulation = pc.contact->info().enforcement, s.key = opt.param;
   s.lo = lo, s.hi = hi, s.x0 = x0, s.xtol = opt.xtol.value_or(1e-4), s.algorithm = nlopt::LN_BOBYQA;
   s.run_overrides = {"stepping.end_stroke=" + exact_text(target.x.back() / cmp.x_per_mm)};
   if (!(s.xtol > 0)) throw InputError("--xtol: expected a positive number");

@@ -23,9 +23,10 @@ struct PreparedCase {
   std::unique_ptr<ContactFormulation> contact;
 };
 
-// formulation empty: the scene's own. Throws InputError.
+// formulation ("ENFORCEMENT" or "ENFORCEMENT+DISCRETIZATION") and
+// discretization empty: the scene's own. Throws InputError.
 PreparedCase prepare_case(const std::string& case_file, const std::vector<std::string>& overrides,
-                          const std::string& formulation);
+                          const std::string& formulation, const std::string& discretization = "");
 
 // The load columns its history.csv will have: NAME.Fx and NAME.Fy for every
 // velocity group and every load the formulation reports (its dies).

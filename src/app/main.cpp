@@ -18,12 +18,16 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   rpfem::RunOptions run;
-  std::string formulation_help = "contact formulation, overriding the case's run.formulation:";
+  std::string formulation_help =
+      "contact enforcement, overriding the case's contact.enforcement (or ENFORCEMENT+DISCRETIZATION):";
   for (const auto& f : rpfem::formulations()) formulation_help += "\n  " + f.name + ": " + f.help;
+  std::string discretization_help = "contact discretization, overriding the case's contact.discretization:";
+  for (const auto& d : rpfem::discretizations()) discretization_help += "\n  " + d.name + ": " + d.help;
   auto* run_cmd = app.add_subcommand("run", "Run one case file; results in --out");
   run_cmd->add_option("case", run.case_file, "case file (TOML)")->required();
   run_cmd->add_option("--out,-o", run.out_dir, "output folder (created)")->required();
-  run_cmd->add_option("--formulation,-f", run.formulation, formulation_help);
+  run_cmd->add_option("--formulation,--enforcement,-f", run.formulation, formulation_help);
+  run_cmd->add_option("--discretization,-d", run.discretization, discretization_help);
   run_cmd->add_option("--set,-s", run.overrides, "override a case value: key.path=value (repeatable)");
   run_cmd->add_option("--variant", run.variant,
                       "run a [[variants]] entry of the case (its overrides, then --set's); 'all': each into OUT/NAME");

@@ -6,6 +6,7 @@
 
 #include "app/case_setup.hpp"
 #include "app/run_observer.hpp"
+#include "factory.hpp"
 #include "io/variants.hpp"
 #include "core/version.hpp"
 #include "io/case_file.hpp"
@@ -20,17 +21,21 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
   std::vector<std::string> overrides;
   if (variant) overrides = variant->set;
   overrides.insert(overrides.end(), opt.overrides.begin(), opt.overrides.end());
-  PreparedCase prepared = prepare_case(opt.case_file, overrides, opt.formulation);
+  PreparedCase prepared = prepare_case(opt.case_file, overrides, opt.formulation, opt.discretization);
   const CaseFile& file = *prepared.file;
   Scene& scene = *prepared.scene;
   const std::vector<Monitor>& monitors = prepared.monitors;
   ContactFormulation* contact = prepared.contact.get();
+  const ContactInfo info = contact->info();
+  const std::string label = contact_label(info);
 
   const MeshQuality q = mesh_quality(scene.mesh);
   toml::table summary{{"case", scene.name},
                       {"case_file", std::filesystem::absolute(opt.case_file).string()},
                       {"variant", variant ? variant->name : std::string()},
-                      {"formulation", contact->name()},
+                      {"formulation", label},
+                      {"enforcement", info.enforcement},
+                      {"discretization", info.discretization},
                       {"version", kVersion},
                       {"parameters", file.used()}};
   toml::array ov;
@@ -44,7 +49,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
     std::printf("rpfem %s: %s%s%s with '%s': %lld elements, %lld nodes, mesh quality: min scaled Jacobian %.3f, "
                 "max aspect ratio %.2f\n",
                 kVersion, scene.name.c_str(), variant ? ", variant " : "", variant ? variant->name.c_str() : "",
-                contact->name().c_str(), (long long)scene.mesh.num_elements(), (long long)scene.mesh.num_nodes(),
+                label.c_str(), (long long)scene.mesh.num_elements(), (long long)scene.mesh.num_nodes(),
                 q.min_scaled_jacobian, q.max_aspect_ratio);
 
   RunObserver obs(scene, out_dir, summary, opt.quiet, monitors);

@@ -8,7 +8,8 @@ namespace rpfem {
 struct RunOptions {
   std::string case_file;
   std::string out_dir;
-  std::string formulation;  // empty: the scene's own
+  std::string formulation;     // the enforcement, or ENFORCEMENT+DISCRETIZATION; empty: the scene's own
+  std::string discretization;  // empty: the scene's own (or the formulation's)
   std::vector<std::string> overrides;
   std::string variant;  // empty: the base case; "all": every variant into out_dir/NAME
   bool quiet = false;

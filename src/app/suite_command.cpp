@@ -29,14 +29,22 @@ namespace {
 
 using Job = PoolRun;
 
-// The formulations that treat every contact of the scene.
-std::vector<std::string> applicable(const Scene& scene) {
+// The combinations that treat every contact of the scene: each enforcement
+// that applies with the scene's discretization (labelled by the
+// enforcement alone), and with every other discretization that differs
+// from it there (ENFORCEMENT+DISCRETIZATION).
+std::vector<std::string> applicable(CaseFile& file, const Scene& scene) {
   bool dies = false, bodies = false;
   for (const auto& p : scene.contact_pairs) (p.with_die() ? dies : bodies) = true;
   if (!dies && !bodies) return {scene.formulation};
+  const std::string own = contact_choice(file, scene).discretization;
   std::vector<std::string> out;
   for (const auto& f : formulations())
     if ((f.dies || !dies) && (f.bodies || !bodies) && (f.dies || f.bodies)) out.push_back(f.name);
+  const std::size_t n = out.size();
+  for (const auto& d : discretizations())
+    if (d.name != own && (bodies || !d.between_bodies_only))
+      for (std::size_t i = 0; i < n; ++i) out.push_back(out[i] + "+" + d.name);
   return out;
 }
 
@@ -52,7 +60,7 @@ std::vector<Job> plan(const SuiteOptions& opt) {
     CaseFile file(path.string(), opt.overrides);
     const std::vector<Variant> variants = read_variants(file.root());
     const Scene scene = read_scene(file);
-    for (const std::string& f : applicable(scene)) {
+    for (const std::string& f : applicable(file, scene)) {
       if (!opt.formulations.empty() &&
           std::find(opt.formulations.begin(), opt.formulations.end(), f) == opt.formulations.end())
         continue;

@@ -1,12 +1,13 @@
-// The one interface through which the kernel calls a contact formulation.
+// The one interface through which the kernel calls a contact treatment.
 //
-// Like MFEM's ConstrainedSolver, a formulation may act in three ways, and
-// the kernel does not care which: add terms to the step's functional (penalty:
-// energy, gradient, Hessian), add velocity constraints in nodal frames
-// (direct: elimination), or take over the step's solve (ipopt). Whatever it
-// does, contact_forces() hands the nodal contact forces out the same way.
-// The kernel never names a concrete formulation: formulations/factory.hpp
-// turns the keyword into an object.
+// Like MFEM's ConstrainedSolver, a treatment may act in three ways, and the
+// kernel does not care which: add terms to the step's functional (penalty,
+// augmented Lagrangian: energy, gradient, Hessian), add velocity
+// constraints in nodal frames (direct: elimination), or solve the step with
+// its own solver (ipopt: a StepSolver). Whatever it does, record() hands
+// the contact forces, die loads and fields out the same way. The kernel
+// never names a concrete treatment: formulations/factory.hpp builds one
+// from an enforcement and a discretization (src/contact/contact_model.hpp).
 #pragma once
 #include <map>
 #include <optional>
@@ -21,7 +22,7 @@ namespace rpfem {
 
 class StepProblem;
 
-// What a formulation sees of the step: the configuration is fixed for the
+// What a treatment sees of the step: the configuration is fixed for the
 // step (updated Lagrangian), velocities are the unknowns.
 struct StepView {
   const Mesh* mesh = nullptr;
@@ -34,7 +35,7 @@ struct StepView {
   // Whether the solved velocity moves the nodes over dt. false: the solve
   // gives the instantaneous field at x, recorded, and in the midpoint
   // scheme only the predictor of the next half step (the end-of-step
-  // solve): a formulation then anticipates no contact within dt.
+  // solve): contact then anticipates no landing within dt.
   bool moves = true;
   const std::vector<double>* flow_stress = nullptr;  // per element, MPa (last solve)
   Geometry geometry = Geometry::Axisymmetric;
@@ -58,17 +59,26 @@ class TermSink {
 struct TangentKind {
   bool symmetric = true;  // false: UMFPACK (frictional tangents)
   bool potential = true;  // false: the terms' gradient is not the energy's
-  // Not a potential, but the formulation can anchor a merit at an iterate
+  // Not a potential, but the treatment can anchor a merit at an iterate
   // (anchor_merit): the line search then uses it instead of the residual norm.
   bool merit = false;
 };
 
-// Outcome of a formulation that solved the step itself.
+// Outcome of a step solved by a treatment's own solver.
 struct SolveOutcome {
   bool converged = false;
   int iterations = 0;
   double residual = 0;
   std::string reason;
+};
+
+// A step solver other than the kernel's Newton (MFEM's ConstrainedSolver
+// subclasses): u holds the reduced unknowns on entry (initial guess) and on
+// exit.
+class StepSolver {
+ public:
+  virtual ~StepSolver() = default;
+  virtual SolveOutcome solve(const StepView&, StepProblem&, Vec& u) = 0;
 };
 
 // Verdict after a converged solve.
@@ -82,12 +92,31 @@ struct NamedValue {
   double value = 0;
 };
 
+// What a treatment reports of a converged solve, for the step's record.
+struct ContactRecord {
+  std::vector<Vec2> force;     // N per node: the contact force on the bodies
+  std::vector<Vec2> loads;     // N per entry of ContactInfo::load_names
+  std::vector<double> columns; // per entry of ContactInfo::column_names (history.csv)
+  std::map<std::string, std::vector<double>> fields;  // per node (result.h5), zero away from contact
+  // Largest penetration over the local element size (the run warns above
+  // run.penetration_tolerance); nullopt if the treatment measures none.
+  std::optional<double> penetration_rel;
+};
+
+// What a treatment states once, at the start of a run.
+struct ContactInfo {
+  std::string enforcement, discretization;  // the two axes ("none" for none)
+  std::vector<std::string> load_names;      // its dies
+  std::vector<std::string> column_names;
+  std::vector<NamedValue> derived;          // values derived from the scene (summary.json)
+};
+
 class ContactFormulation {
  public:
   virtual ~ContactFormulation() = default;
-  virtual std::string name() const = 0;
+  virtual ContactInfo info() const = 0;
 
-  // Start of a step (configuration fixed): contact search, active set.
+  // Start of a solve of a configuration: contact search, rows, state.
   virtual void begin_step(const StepView&) {}
   // Velocity constraints in nodal frames, added to the kernel's own.
   virtual void constraints(const StepView&, std::vector<NodeConstraint>&) const {}
@@ -98,53 +127,28 @@ class ContactFormulation {
   virtual TangentKind tangent() const { return {}; }
   // Non-potential terms (tangent().merit): freeze what makes them so at the
   // velocities v (Coulomb's friction bound, a function of the normal force)
-  // until the next call. add_terms' energy is then a potential whose
-  // gradient at v is the terms' gradient, the Newton line search's merit;
-  // gradient and Hessian stay the live, consistent ones.
+  // until the next call; add_terms' energy is then the line search's merit.
   virtual void anchor_merit(const StepView&, const std::vector<Vec2>& v) {}
-  // A formulation that solves the step itself returns its outcome; u holds
-  // the reduced unknowns on entry (initial guess) and on exit.
-  virtual std::optional<SolveOutcome> solve(const StepView&, StepProblem&, Vec& u) { return std::nullopt; }
+  // The treatment's own step solver, or nullptr for the kernel's Newton.
+  virtual StepSolver* solver() { return nullptr; }
   // After a converged solve, with nodal velocities v and nodal forces F
   // (internal minus external: the reactions at constrained nodes).
-  virtual StepCheck check(const StepView&, const std::vector<Vec2>& v, const std::vector<Vec2>& F) {
-    return {};
-  }
-  // Largest step (s) before the motion v makes a contact event (a free node
-  // reaching a die); the stepper shortens the step to it.
-  virtual std::optional<double> limit_dt(const StepView&, const std::vector<Vec2>& v) const {
-    return std::nullopt;
-  }
-  // Speed (mm/s) of a named object of the formulation (a die), so a die can
-  // be the stroke reference; nullopt if the name is not the formulation's.
-  virtual std::optional<double> reference_speed(const std::string& name) const { return std::nullopt; }
-  // Nodal contact forces on the bodies (N), whichever way they arose.
-  virtual void contact_forces(const StepView&, const std::vector<Vec2>& v, const std::vector<Vec2>& F,
-                              std::vector<Vec2>& out) const {
-    out.assign(v.size(), Vec2::Zero());
-  }
-  // Loads on the formulation's own objects (dies), N: names fixed at start.
-  virtual std::vector<std::string> load_names() const { return {}; }
-  virtual std::vector<Vec2> loads(const StepView&, const std::vector<Vec2>& F) const { return {}; }
-  // Per-node fields of the last converged solve for result.h5 (e.g. the
-  // contact pressure and shear stress, MPa); zero away from contact.
-  virtual void node_fields(const StepView&, std::map<std::string, std::vector<double>>& out) const {}
-  // Values the formulation derived from the scene (defaults it scaled, e.g.
-  // a penalty parameter), recorded in the run's summary.
-  virtual std::vector<NamedValue> derived() const { return {}; }
-  // Largest penetration of the last solve's configuration over the local
-  // element size (the run warns above run.penetration_tolerance); nullopt
-  // if the formulation measures none (`direct` places its nodes on the dies).
-  virtual std::optional<double> max_penetration_rel() const { return std::nullopt; }
-  // Per-step scalars for history.csv (names fixed at start).
-  virtual std::vector<std::string> report_names() const { return {}; }
-  virtual std::vector<double> report() const { return {}; }
-  // After the nodes moved to x (the configuration at view.time + view.dt),
-  // a formulation may place its contact nodes back on curved surfaces they
-  // slid along (ALPID's correction); returns the largest move (mm).
+  virtual StepCheck settle(const StepView&, const std::vector<Vec2>& v, const std::vector<Vec2>& F) { return {}; }
+  // Largest step (s) before the motion v lands a free node on its master;
+  // the stepper shortens the step to it.
+  virtual std::optional<double> limit_dt(const StepView&, const std::vector<Vec2>& v) const { return std::nullopt; }
+  // After the nodes moved to x (the configuration at view.time + view.dt):
+  // nodes held on curved die surfaces are placed back on them (ALPID's
+  // correction); returns the largest move (mm).
   virtual double place_on_surfaces(const StepView&, std::vector<Vec2>& x) { return 0; }
-  // End of an accepted step of length dt: move dies, carry contact state.
-  virtual void advance(const StepView&, const std::vector<Vec2>& v) {}
+  // End of an accepted step: contact state carried to the next.
+  virtual void end_step(const StepView&, const std::vector<Vec2>& v) {}
+  // The last converged solve's forces, loads, fields and columns.
+  virtual ContactRecord record(const StepView&, const std::vector<Vec2>& v, const std::vector<Vec2>& F) const {
+    ContactRecord r;
+    r.force.assign(v.size(), Vec2::Zero());
+    return r;
+  }
 };
 
 }  // namespace rpfem

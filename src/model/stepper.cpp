@@ -95,6 +95,11 @@ class Runner {
   StepView view(const State& st, int step, double dt) const;
   void record(const State& st, const Solution& sol, int step, double dt, int cuts);
   RunOutcome finish();
+  const Die* find_die(const std::string& name) const {
+    for (const Die& d : scene_.dies)
+      if (d.name == name) return &d;
+    return nullptr;
+  }
 
   const Scene& scene_;
   ContactFormulation& contact_;
@@ -171,7 +176,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     if (!r.converged) return fail(r.reason);
     problem.dofs().expand(u, v);
     problem.nodal_forces(v, sol.F);
-    StepCheck check = contact_.check(sv, v, sol.F);
+    StepCheck check = contact_.settle(sv, v, sol.F);
     sol.events.insert(sol.events.end(), check.events.begin(), check.events.end());
     if (!check.resolve) break;
   }
@@ -201,12 +206,13 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
 }
 
 NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u) {
-  if (auto own = contact_.solve(sv, problem, u)) {
+  if (StepSolver* own = contact_.solver()) {
+    const SolveOutcome o = own->solve(sv, problem, u);
     NewtonResult r;
-    r.converged = own->converged;
-    r.iterations = own->iterations;
-    r.residual = own->residual;
-    r.reason = own->reason;
+    r.converged = o.converged;
+    r.iterations = o.iterations;
+    r.residual = o.residual;
+    r.reason = o.reason;
     return r;
   }
   NewtonResult r = newton_solve(problem.newton_system(), scene_.solver.newton, u);
@@ -269,7 +275,9 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
     ++floor_steps_;
     if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
   }
-  if (const auto pen = contact_.max_penetration_rel()) {
+  const StepView sv = view(st, step, dt);
+  ContactRecord cr = contact_.record(sv, sol.v, sol.F);
+  if (const auto pen = cr.penetration_rel) {
     penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
     if (!(*pen <= worst_penetration_)) {
       worst_penetration_ = *pen, worst_penetration_step_ = step, worst_penetration_stroke_ = st.stroke;
@@ -291,16 +299,15 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   }
   r.flow_stress = sol.flow_stress;
   r.volume = volume * bc_.volume_factor;
-  const StepView sv = view(st, step, dt);
   r.loads = bc_.group_loads(st.x, sol.F);
-  for (const Vec2& l : contact_.loads(sv, sol.F)) r.loads.push_back(l);
+  for (const Vec2& l : cr.loads) r.loads.push_back(l);
   // In axisymmetry radial nodal forces cancel around the circumference: a
   // body's resultant force has no radial component.
   if (scene_.geometry == Geometry::Axisymmetric)
     for (Vec2& l : r.loads) l(0) = 0;
-  contact_.contact_forces(sv, sol.v, sol.F, r.contact_force);
-  r.contact_report = contact_.report();
-  contact_.node_fields(sv, r.node_fields);
+  r.contact_force = std::move(cr.force);
+  r.contact_report = std::move(cr.columns);
+  r.node_fields = std::move(cr.fields);
   r.events = sol.events;
   r.min_scaled_jacobian = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
   obs_.on_step(r);
@@ -345,7 +352,7 @@ RunOutcome Runner::run() {
   // Scales: the reference motion's speed over the bodies' size.
   const auto& ref = scene_.stepping.reference;
   if (auto s = bc_.group_speed(ref)) derived_.reference_speed = *s;
-  else if (auto d = contact_.reference_speed(ref)) derived_.reference_speed = *d;
+  else if (const Die* d = find_die(ref)) derived_.reference_speed = d->motion.max_speed();
   else throw InputError(scene_.file + ": key 'stepping.reference': '" + ref +
                         "' names no prescribed velocity group or die of this scene");
   if (!(derived_.reference_speed > 0))
@@ -366,10 +373,11 @@ RunOutcome Runner::run() {
   for (Index e = 0; e < mesh.num_elements(); ++e) flow_stress_[e] = materials_[e].law->yield(0.0);
   derived_.dt_nominal = scene_.stepping.stroke_increment / derived_.reference_speed;
 
+  const ContactInfo info = contact_.info();
   std::vector<std::string> load_names = bc_.load_names();
-  for (const auto& n : contact_.load_names()) load_names.push_back(n);
-  derived_.contact = contact_.derived();
-  obs_.on_start(derived_, load_names, contact_.report_names());
+  for (const auto& n : info.load_names) load_names.push_back(n);
+  derived_.contact = info.derived;
+  obs_.on_start(derived_, load_names, info.column_names);
 
   // In the midpoint scheme the half-step solve moves the nodes; the solves
   // at the start and end of a step only predict and record.
@@ -441,7 +449,7 @@ RunOutcome Runner::run() {
       obs_.on_retry(step, dt, why);
       dt *= 0.5;
     }
-    contact_.advance(view(st, step, dt), moved_by);
+    contact_.end_step(view(st, step, dt), moved_by);
     st = std::move(next);
     sol = std::move(next_sol);
     flow_stress_ = sol.flow_stress;

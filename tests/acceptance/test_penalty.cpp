@@ -59,7 +59,9 @@ TEST(PaperTest1, DoubleActionMirrorsAndMatchesSingleAction) {
   EXPECT_NEAR(hd.at("stroke").back(), 6.0, 1e-9);
   double load = 0, pen = 0, imbalance = 0;
   for (std::size_t i = 0; i < hd.rows(); ++i) {
-    ASSERT_NEAR(hd.at("stroke")[i], hs.at("stroke")[i], 1e-9);
+    // The same steps: the landing strokes, each from its own run's
+    // velocities, agree to far below what would change a load.
+    ASSERT_NEAR(hd.at("stroke")[i], hs.at("stroke")[i], 1e-6);
     const double F = -hd.at("top_punch.Fy")[i];
     load = std::max(load, std::abs(F / -hs.at("top_punch.Fy")[i] - 1));
     pen = std::max({pen, hd.at("max_penetration_rel")[i], hd.at("master_penetration_rel")[i],
@@ -98,7 +100,9 @@ TEST(PaperTest1, DoubleActionMirrorsAndMatchesSingleAction) {
 // Paper Test II to 40 % (cases/paper_test2_*.toml): the virtual rigid body
 // in penalty contact against the rigid die enforced by `direct`.
 TEST(PaperTest2, VirtualRigidBodyFollowsTheRigidDie) {
-  const std::string dv = run_case("paper_test2_virtual_rigid", "", 0, "_vrb");
+  // Without landing control, as the comparison below assumes (nodes land
+  // within a step here, at a step's end in `direct`).
+  const std::string dv = run_case("paper_test2_virtual_rigid", "--set contact.landing_control=false", 0, "_vrb");
   const std::string dd = run_case("paper_test2_die", "", 0, "_die");
   const History hv = read_history(dv + "/history.csv"), hd = read_history(dd + "/history.csv");
   EXPECT_NEAR(hv.at("stroke").back(), 4.0, 1e-9);
@@ -182,8 +186,11 @@ TEST(PatchTest, TwoPassRecoversTheHomogeneousFlowOnePassIsMeasured) {
 // step after each switch, the switch brings the one-pass load closer to
 // two-pass than it was before, and the load ends within 1 % of two-pass.
 TEST(RoleSwitch, CornerOfTheMasterMakesItTheSlave) {
-  const std::string d1 = run_case("role_switch_flat_punch", "", 0, "_one");
-  const std::string d2 = run_case("role_switch_flat_punch", "--variant two_pass", 0, "_two");
+  // Step by step at the same strokes: without landing control (its landing
+  // strokes differ between the two discretizations).
+  const std::string fixed = "--set contact.landing_control=false";
+  const std::string d1 = run_case("role_switch_flat_punch", fixed, 0, "_one");
+  const std::string d2 = run_case("role_switch_flat_punch", "--variant two_pass " + fixed, 0, "_two");
   const History h1 = read_history(d1 + "/history.csv"), h2 = read_history(d2 + "/history.csv");
   EXPECT_NEAR(h1.at("stroke").back(), 0.5, 1e-9);
   std::ifstream events(d1 + "/events.csv");

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue 6: `rpfem suite` end to end on one coarse scene: every formulation
 # that treats rigid dies runs (direct, penalty, ipopt), suite.json lists
-# them, and the report is built (HTML with the figure embedded, Markdown
+# them (auglag too), and the report is built (HTML with the figure embedded, Markdown
 # twin with its figure file). A broken report path breaks CI here.
 set -u
 rpfem=$1; src=$2
@@ -12,11 +12,11 @@ out=$("$rpfem" suite --cases "$tmp/cases" --out "$tmp/o" --jobs 2 --set stepping
   --set bodies.billet.mesh.nx=6 --set bodies.billet.mesh.ny=6 2>&1); rc=$?
 echo "$out" | tail -5
 [ "$rc" -eq 0 ] || { echo "FAIL: exit code $rc"; exit 1; }
-for f in direct penalty ipopt; do
+for f in direct penalty auglag ipopt; do
   grep -q "\"formulation\" : \"$f\"" "$tmp/o/suite.json" || { echo "FAIL: no $f run in suite.json"; exit 1; }
   [ -s "$tmp/o/upsetting_dies_frictionless_axisym/$f/history.csv" ] || { echo "FAIL: no $f history"; exit 1; }
 done
-[ "$(grep -c '"exit_code" : 0' "$tmp/o/suite.json")" -eq 3 ] || { echo "FAIL: a run did not finish"; exit 1; }
+[ "$(grep -c '"exit_code" : 0' "$tmp/o/suite.json")" -eq 4 ] || { echo "FAIL: a run did not finish"; exit 1; }
 echo "$out" | grep -q "report: .*report.html" || { echo "FAIL: report path not printed"; exit 1; }
 # A cases folder without studies/: none run, the report has no Studies section.
 [ ! -d "$tmp/o/studies" ] && ! grep -q "^## Studies" "$tmp/o/report.md" || { echo "FAIL: a Studies section without studies"; exit 1; }

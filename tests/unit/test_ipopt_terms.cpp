@@ -1,14 +1,24 @@
-// The ipopt formulation's friction term (formulations/ipopt/
-// friction_bounds.*): gradient and Hessian against finite differences of
-// its energy and gradient (a potential: the bound is fixed in a solve), and
-// the bound of each law.
+// The friction term with its bound fixed in a solve (contact/row_terms.*,
+// as ipopt and direct use it): gradient and Hessian against finite
+// differences of its energy and gradient (a potential), and the bound of
+// each law.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "ipopt/friction_bounds.hpp"
+#include "contact/row_terms.hpp"
 
 using namespace rpfem;
+
+namespace {
+RowTerm friction_term(const PairKinematics& k, double B, double a, const std::array<Vec2, 3>& v) {
+  RowLaw l;
+  l.normal = false;
+  l.fixed_bound = B;
+  l.a = a;
+  return row_term(k, l, v, true);
+}
+}  // namespace
 
 TEST(IpoptFriction, TermIsAPotentialWithExactHessian) {
   PairKinematics k;
@@ -19,13 +29,13 @@ TEST(IpoptFriction, TermIsAPotentialWithExactHessian) {
   const double B = 40, a = 0.01;
   for (double slip : {-0.3, -0.004, 0.0, 0.002, 0.5}) {
     const std::array<Vec2, 3> v{Vec2(slip, -0.5), Vec2(0.0, 0.2), Vec2(0.01, 0.1)};
-    const FrictionTerm t = friction_term(k, B, a, v);
+    const RowTerm t = friction_term(k, B, a, v);
     for (int j = 0; j < 6; ++j) {
       const double h = 1e-7;
       auto vp = v, vm = v;
       vp[j / 2](j % 2) += h;
       vm[j / 2](j % 2) -= h;
-      const FrictionTerm p = friction_term(k, B, a, vp), m = friction_term(k, B, a, vm);
+      const RowTerm p = friction_term(k, B, a, vp), m = friction_term(k, B, a, vm);
       EXPECT_NEAR(t.grad[j], (p.energy - m.energy) / (2 * h), 1e-5 * (1 + std::abs(t.grad[j]))) << j;
       for (int i = 0; i < 6; ++i) {
         const double fd = (p.grad[i] - m.grad[i]) / (2 * h);
@@ -42,9 +52,10 @@ TEST(IpoptFriction, BoundsOfTheLaws) {
   factor.m = 0.3;
   coulomb.kind = FrictionLaw::Kind::Coulomb;
   coulomb.mu = 0.2;
-  EXPECT_DOUBLE_EQ(friction_bound(factor, 5.0, 100.0), 30.0);   // m k w
-  EXPECT_DOUBLE_EQ(friction_bound(factor, 0.0, 100.0), 0.0);    // not pressing
-  EXPECT_DOUBLE_EQ(friction_bound(coulomb, 50.0, 100.0), 10.0); // mu N
-  EXPECT_DOUBLE_EQ(friction_bound(coulomb, 1e4, 100.0), 100.0); // capped at k w
-  EXPECT_DOUBLE_EQ(friction_bound(none, 50.0, 100.0), 0.0);
+  EXPECT_DOUBLE_EQ(friction_bound(factor, true, 5.0, 100.0), 30.0);    // m k w
+  EXPECT_DOUBLE_EQ(friction_bound(factor, false, 5.0, 100.0), 0.0);    // not in contact
+  EXPECT_DOUBLE_EQ(friction_bound(coulomb, true, 50.0, 100.0), 10.0);  // mu N
+  EXPECT_DOUBLE_EQ(friction_bound(coulomb, true, 1e4, 100.0), 100.0);  // capped at k w
+  EXPECT_DOUBLE_EQ(friction_bound(coulomb, true, -1.0, 100.0), 0.0);   // tension
+  EXPECT_DOUBLE_EQ(friction_bound(none, true, 50.0, 100.0), 0.0);
 }

@@ -1,4 +1,4 @@
-// The penalty formulation's pair term (formulations/penalty/pair_terms.*,
+// The penalty formulation's pair term (src/contact/row_terms.*,
 // paper eq. 7-12): gradient and Hessian, including Coulomb friction's
 // unsymmetric consistent tangent, against finite differences; action equals
 // reaction; Hallquist's rule for the slave side.
@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "penalty/pair_terms.hpp"
-#include "penalty/roles.hpp"
+#include "contact/row_terms.hpp"
+#include "node_to_segment/roles.hpp"
 
 using namespace rpfem;
 
@@ -23,8 +23,8 @@ PairKinematics body_pair() {
   return k;
 }
 
-PairLaw law(FrictionLaw::Kind kind) {
-  PairLaw l;
+RowLaw law(FrictionLaw::Kind kind) {
+  RowLaw l;
   l.beta = 5e3;
   l.inv_dt = 10;
   l.kind = kind;
@@ -35,15 +35,15 @@ PairLaw law(FrictionLaw::Kind kind) {
   return l;
 }
 
-void check_derivatives(const PairKinematics& k, const PairLaw& l, const std::array<Vec2, 3>& v, bool potential) {
-  const PairResult r = pair_terms(k, l, v, true);
+void check_derivatives(const PairKinematics& k, const RowLaw& l, const std::array<Vec2, 3>& v, bool potential) {
+  const RowTerm r = row_term(k, l, v, true);
   const int nd = 2 * k.k;
   for (int j = 0; j < nd; ++j) {
     const double h = 1e-7;
     auto vp = v, vm = v;
     vp[j / 2](j % 2) += h;
     vm[j / 2](j % 2) -= h;
-    const PairResult rp = pair_terms(k, l, vp, false), rm = pair_terms(k, l, vm, false);
+    const RowTerm rp = row_term(k, l, vp, false), rm = row_term(k, l, vm, false);
     if (potential) EXPECT_NEAR(r.grad[j], (rp.energy - rm.energy) / (2 * h), 1e-5 * (1 + std::abs(r.grad[j]))) << j;
     for (int i = 0; i < nd; ++i) {
       const double fd = (rp.grad[i] - rm.grad[i]) / (2 * h);
@@ -54,8 +54,8 @@ void check_derivatives(const PairKinematics& k, const PairLaw& l, const std::arr
 
 // A pressing pair sliding slowly, Coulomb below the sticking cap (B = mu N).
 const std::array<Vec2, 3> kSliding{Vec2(0.003, -0.5), Vec2(0.0, 0.2), Vec2(0.0, 0.1)};
-PairLaw coulomb_below_cap() {
-  PairLaw l = law(FrictionLaw::Kind::Coulomb);
+RowLaw coulomb_below_cap() {
+  RowLaw l = law(FrictionLaw::Kind::Coulomb);
   l.k_weight = 1e4;
   return l;
 }
@@ -77,8 +77,8 @@ TEST(PenaltyPair, FrictionFactorIsAPotentialWithExactHessian) {
 TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
   const std::array<Vec2, 3>& v = kSliding;
   const PairKinematics k = body_pair();
-  const PairLaw l = coulomb_below_cap();
-  const PairResult r = pair_terms(k, l, v, true);
+  const RowLaw l = coulomb_below_cap();
+  const RowTerm r = row_term(k, l, v, true);
   ASSERT_GT(r.normal_force, 0);                        // pressing
   ASSERT_LT(l.mu * r.normal_force, l.k_weight);        // below the sticking cap: B = mu N
   EXPECT_NEAR(r.bound, l.mu * r.normal_force, 1e-12);
@@ -88,9 +88,9 @@ TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
     for (int j = 0; j < 6; ++j) asym = std::max(asym, std::abs(r.hess[j * 6 + i] - r.hess[i * 6 + j]));
   EXPECT_GT(asym, 1e-3);
   // Capped at k w: B no longer depends on N, the tangent is symmetric again.
-  PairLaw capped = l;
+  RowLaw capped = l;
   capped.k_weight = 1e-3;
-  const PairResult c = pair_terms(k, capped, v, true);
+  const RowTerm c = row_term(k, capped, v, true);
   EXPECT_NEAR(c.bound, 1e-3, 1e-15);
   check_derivatives(k, capped, v, true);
 }
@@ -102,12 +102,12 @@ TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
 TEST(PenaltyPair, CoulombMeritAnchoredAtAnIterateHasTheResidualAsGradient) {
   const std::array<Vec2, 3>& v0 = kSliding;
   const PairKinematics k = body_pair();
-  const PairLaw l = coulomb_below_cap();
-  const PairResult live = pair_terms(k, l, v0, true);
+  const RowLaw l = coulomb_below_cap();
+  const RowTerm live = row_term(k, l, v0, true);
   ASSERT_GT(live.bound, 0);
-  PairLaw anchored = l;
+  RowLaw anchored = l;
   anchored.merit_bound = live.bound;
-  const PairResult r = pair_terms(k, anchored, v0, true);
+  const RowTerm r = row_term(k, anchored, v0, true);
   double grad_error = 0, live_fd_error = 0;
   for (int j = 0; j < 6; ++j) {
     EXPECT_EQ(r.grad[j], live.grad[j]);
@@ -116,8 +116,8 @@ TEST(PenaltyPair, CoulombMeritAnchoredAtAnIterateHasTheResidualAsGradient) {
     auto vp = v0, vm = v0;
     vp[j / 2](j % 2) += h;
     vm[j / 2](j % 2) -= h;
-    const double fd = (pair_terms(k, anchored, vp, false).energy - pair_terms(k, anchored, vm, false).energy) / (2 * h);
-    const double fd_live = (pair_terms(k, l, vp, false).energy - pair_terms(k, l, vm, false).energy) / (2 * h);
+    const double fd = (row_term(k, anchored, vp, false).energy - row_term(k, anchored, vm, false).energy) / (2 * h);
+    const double fd_live = (row_term(k, l, vp, false).energy - row_term(k, l, vm, false).energy) / (2 * h);
     grad_error = std::max(grad_error, std::abs(fd - r.grad[j]) / (1 + std::abs(r.grad[j])));
     live_fd_error = std::max(live_fd_error, std::abs(fd_live - r.grad[j]) / (1 + std::abs(r.grad[j])));
   }
@@ -128,7 +128,7 @@ TEST(PenaltyPair, CoulombMeritAnchoredAtAnIterateHasTheResidualAsGradient) {
 
 TEST(PenaltyPair, ActionEqualsReaction) {
   const std::array<Vec2, 3> v{Vec2(0.2, -0.5), Vec2(0.01, 0.2), Vec2(-0.03, 0.1)};
-  const PairResult r = pair_terms(body_pair(), law(FrictionLaw::Kind::Coulomb), v, false);
+  const RowTerm r = row_term(body_pair(), law(FrictionLaw::Kind::Coulomb), v, false);
   Vec2 sum = Vec2::Zero();
   for (int a = 0; a < 3; ++a) sum += Vec2(r.grad[2 * a], r.grad[2 * a + 1]);
   EXPECT_LT(sum.norm(), 1e-12 * Vec2(r.grad[0], r.grad[1]).norm());
@@ -142,9 +142,9 @@ TEST(PenaltyPair, GapCorrectionAimsAtZeroGapAtTheEndOfTheStep) {
   k.n = Vec2(0, 1);
   k.offset = Vec2(0, -1);
   k.gap0 = k.gap_from = -0.01;
-  PairLaw l = law(FrictionLaw::Kind::None);
+  RowLaw l = law(FrictionLaw::Kind::None);
   // r = (v - v_die).n + g0/dt = 0 at v_y = -1 + 0.01 * 10.
-  const PairResult r = pair_terms(k, l, {Vec2(0, -0.9), Vec2::Zero(), Vec2::Zero()}, false);
+  const RowTerm r = row_term(k, l, {Vec2(0, -0.9), Vec2::Zero(), Vec2::Zero()}, false);
   EXPECT_NEAR(r.gamma_n, 0.1, 1e-15);
   EXPECT_NEAR(r.normal_force, 0.0, 1e-12);
 }
@@ -156,16 +156,16 @@ TEST(PenaltyPair, OneSidedPenaltyActsOnlyOnPredictedPenetration) {
   k.k = 1;
   k.n = Vec2(0, 1);
   k.gap0 = k.gap_from = 0.01;
-  PairLaw l = law(FrictionLaw::Kind::None);
+  RowLaw l = law(FrictionLaw::Kind::None);
   l.one_sided = true;
-  const auto at = [&](double vy) { return pair_terms(k, l, {Vec2(0.3, vy), Vec2::Zero(), Vec2::Zero()}, true); };
+  const auto at = [&](double vy) { return row_term(k, l, {Vec2(0.3, vy), Vec2::Zero(), Vec2::Zero()}, true); };
   // Would stop short: no force, no stiffness.
-  const PairResult free = at(-0.05);
+  const RowTerm free = at(-0.05);
   EXPECT_EQ(free.normal_force, 0.0);
   EXPECT_EQ(free.energy, 0.0);
   for (double h : free.hess) EXPECT_EQ(h, 0.0);
   // Would end 0.02 mm inside: pushed out, N = -beta r with r = -0.3 + 0.1.
-  const PairResult in = at(-0.3);
+  const RowTerm in = at(-0.3);
   EXPECT_NEAR(in.normal_force, l.beta * 0.2, 1e-9);
   // Derivatives exact on each side of the kink, continuous force across it.
   check_derivatives(k, l, {Vec2(0.3, -0.3), Vec2::Zero(), Vec2::Zero()}, true);
@@ -175,7 +175,7 @@ TEST(PenaltyPair, OneSidedPenaltyActsOnlyOnPredictedPenetration) {
   PairKinematics b = body_pair();
   b.gap0 = b.gap_from = 0.01;
   check_derivatives(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}, true);
-  EXPECT_GT(pair_terms(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}, false).normal_force, 0.0);
+  EXPECT_GT(row_term(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}, false).normal_force, 0.0);
 }
 
 TEST(HallquistRule, TheBodyThatPenetratesBecomesTheSlave) {

@@ -1,4 +1,4 @@
-#include "penalty/roles.hpp"
+#include "node_to_segment/roles.hpp"
 
 #include <algorithm>
 

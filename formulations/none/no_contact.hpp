@@ -7,7 +7,7 @@ namespace rpfem {
 
 class NoContact final : public ContactFormulation {
  public:
-  std::string name() const override { return "none"; }
+  ContactInfo info() const override { return {"none", "none", {}, {}, {}}; }
 };
 
 }  // namespace rpfem

@@ -1,0 +1,104 @@
+#include "auglag/auglag_enforcement.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace rpfem {
+
+namespace {
+
+RegularizedSettings read_settings(const Scene& scene, CaseSection& s, const ContactDiscretization& disc) {
+  RegularizedSettings r;
+  const double size = scene.mesh.size();
+  const double factor = s.real("beta_factor", 1e-2, Range::positive(), "times the penalty's default beta");
+  const auto beta = s.optional_real("beta", Range::positive(), "MPa s/mm (replaces the default)");
+  r.beta_hat = default_beta_hat(scene, disc, factor, beta);
+  r.gap_correction = true;  // the multiplier acts on the end-of-step gap
+  r.touch_tol = s.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
+  r.release_tol = 0;
+  r.speed_scale = scene.largest_speed();
+  return r;
+}
+
+}  // namespace
+
+AugLagEnforcement::AugLagEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
+    : RegularizedEnforcement(disc, read_settings(scene, settings, disc)) {
+  tol_primal_ = settings.real("tolerance", 1e-9, Range::positive(),
+                              "largest end-of-step penetration, relative to the element size");
+  tol_compl_ = settings.real("complementarity_tolerance", 1e-8, Range::positive(),
+                             "largest |N g_end / dt| relative to the total normal force times the speed scale");
+  max_augmentations_ = settings.integer("max_augmentations", 20, 1, 1000);
+  speed_scale_ = scene.largest_speed();
+}
+
+void AugLagEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>& rows) {
+  RegularizedEnforcement::begin_step(v, rows);
+  // Each row's multiplier starts from its last normal force.
+  auto& lambda = rows_.lambda();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto it = lambda_.find({rows[i].iface, rows[i].key});
+    lambda[i] = it != lambda_.end() ? it->second : 0.0;
+  }
+  primal_ = complementarity_ = 0;
+  solve_augmentations_ = 0;
+  if (v.step != step_) augmentations_ = 0, step_ = v.step;
+}
+
+
+
+void AugLagEnforcement::measure(const StepView& v, const std::vector<Vec2>& vel) {
+  const auto& rows = rows_.rows();
+  const auto& res = rows_.results();
+  double total = 0;
+  for (const RowResult& r : res) total += std::max(r.normal, 0.0);
+  primal_ = complementarity_ = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!rows_.engaged(i)) continue;
+    const double r = rows_.end_gap_rate(i, vel);  // g_end / dt, mm/s
+    primal_ = std::max(primal_, std::max(0.0, -r * v.dt) / rows[i].h);
+    if (total > 0) complementarity_ = std::max(complementarity_, std::abs(res[i].normal * r) / (total * speed_scale_));
+  }
+}
+
+StepCheck AugLagEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>&) {
+  StepCheck out = settle_state(v, vel);
+  measure(v, vel);
+  const auto& rows = rows_.rows();
+  const auto& res = rows_.results();
+  // The multipliers carried to the next configuration: this solve's forces.
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    lambda_[{rows[i].iface, rows[i].key}] = rows_.engaged(i) ? res[i].normal : 0.0;
+  if (out.resolve) return out;  // the contact state or the smoothing changed: solve again first
+  const bool met = primal_ <= tol_primal_ && complementarity_ <= tol_compl_;
+  if (met) return out;
+  if (solve_augmentations_ >= max_augmentations_) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "augmented Lagrangian: %d augmentations left penetration %.1e, complementarity %.1e",
+                  solve_augmentations_, primal_, complementarity_);
+    out.events.push_back(buf);
+    return out;
+  }
+  // Uzawa's update: lambda <- N = max(0, lambda - beta r).
+  auto& lambda = rows_.lambda();
+  for (std::size_t i = 0; i < rows.size(); ++i) lambda[i] = rows_.engaged(i) ? res[i].normal : 0.0;
+  ++augmentations_, ++solve_augmentations_;
+  out.resolve = true;
+  return out;
+}
+
+void AugLagEnforcement::columns(std::vector<NamedValue>& out) const {
+  out.push_back({"augmentations", double(augmentations_)});
+  out.push_back({"kkt_primal", primal_});
+  out.push_back({"kkt_complementarity", complementarity_});
+}
+
+void AugLagEnforcement::derived(std::vector<NamedValue>& out) const {
+  derived_betas("auglag", out);
+  out.push_back({"auglag.tolerance", tol_primal_});
+  out.push_back({"auglag.complementarity_tolerance", tol_compl_});
+  out.push_back({"auglag.max_augmentations", double(max_augmentations_)});
+}
+
+}  // namespace rpfem

@@ -1,0 +1,55 @@
+// "auglag": the augmented Lagrangian (Bertsekas 1982; Simo and Laursen
+// 1992; Laursen 2002, sec. 5.3), the method between the penalty and exact
+// enforcement. Each row carries the term of contact/row_terms.hpp with its
+// multiplier lambda (N):
+//   N = max(0, lambda - beta r),   E = N^2 / (2 beta)
+// r the predicted end-of-step gap rate. Newton solves the step with lambda
+// fixed; then Uzawa's update lambda <- N (the first-order multiplier
+// update) and the step is solved again, until the Kuhn-Tucker residuals
+// hold:
+//   primal: max(0, -g_end) / h <= tolerance           (default 1e-9)
+//   complementarity: max |N g_end / dt| / (sum N v_ref) <= complementarity_tolerance (1e-8)
+// (dual feasibility N >= 0 holds by construction; stationarity is Newton's
+// residual). Each update shrinks the penetration by about K / (K + beta),
+// K the stiffness the contact sees, so beta can be far below the
+// penalty's (default 1e-2 of it) and Newton's matrices stay well
+// conditioned. The multipliers start each solve from the row's last
+// normal force (by the row's identity), so a step whose contact barely
+// changed needs one or two updates. Friction and the contact state as the
+// penalty's (contact/regularized_rows.hpp), with N the multiplier-shifted
+// normal force.
+#pragma once
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "contact/regularized_rows.hpp"
+#include "io/case_file.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+class AugLagEnforcement final : public RegularizedEnforcement {
+ public:
+  AugLagEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc);
+  std::string name() const override { return "auglag"; }
+  void begin_step(const StepView& v, const std::vector<ContactRow>& rows) override;
+  StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
+  void columns(std::vector<NamedValue>& out) const override;
+  std::optional<double> penetration_rel() const override { return primal_; }
+  void derived(std::vector<NamedValue>& out) const override;
+
+ private:
+  // The residuals of the last solve into primal_ and complementarity_.
+  void measure(const StepView& v, const std::vector<Vec2>& vel);
+
+  std::map<std::pair<int, Index>, double> lambda_;  // N, by row identity
+  double tol_primal_ = 0, tol_compl_ = 0, speed_scale_ = 0;
+  int max_augmentations_ = 0;
+  int solve_augmentations_ = 0;  // in this solve (max_augmentations bounds it)
+  int augmentations_ = 0;        // in this step (all its solves)
+  int step_ = -1;
+  double primal_ = 0, complementarity_ = 0;
+};
+
+}  // namespace rpfem

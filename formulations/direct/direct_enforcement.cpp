@@ -1,0 +1,188 @@
+#include "direct/direct_enforcement.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rpfem {
+
+DirectEnforcement::DirectEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
+    : scene_(scene), disc_(disc) {
+  for (const auto& f : disc.interfaces()) {
+    if (f.die < 0)
+      throw InputError(scene.file + ": the contact pair '" + f.name + "' is between bodies; enforcement 'direct' "
+                       "treats rigid dies only (use 'penalty', 'auglag' or 'ipopt')");
+    coulomb_ = coulomb_ || f.friction.kind == FrictionLaw::Kind::Coulomb;
+    smoothing_.include(f.friction);
+  }
+  speed_scale_ = scene.largest_speed();
+  if (smoothing_.factor() > 1 && !(speed_scale_ > 0))
+    throw InputError(scene.file + ": key 'dies.<name>.friction.a' is relative to the largest prescribed speed, "
+                                  "but nothing moves");
+  const double size = scene.mesh.size();
+  touch_tol_ = settings.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
+  release_tol_ = settings.real("release_tolerance", 1e-9, Range::nonnegative(), "relative to the largest contact force");
+  coulomb_tol_ = settings.real("coulomb_tolerance", 1e-4, Range::positive(),
+                               "largest change of a Coulomb friction bound between passes, relative");
+}
+
+const FrictionLaw& DirectEnforcement::law(std::size_t i) const {
+  return disc_.interfaces()[(*rows_)[i].iface].friction;
+}
+
+double DirectEnforcement::smoothing_speed(std::size_t i) const {
+  return law(i).a_relative * speed_scale_ * smoothing_.factor();
+}
+
+void DirectEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>& rows) {
+  rows_ = &rows;
+  const auto& ifaces = disc_.interfaces();
+  now_.assign(rows.size(), {});
+  std::map<std::pair<int, Index>, State> next;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const ContactRow& r = rows[i];
+    const auto it = state_.find({r.iface, r.key});
+    if (it != state_.end()) now_[i] = it->second;
+    // Touch: a free node on (or, by round-off, just inside) the die.
+    if (!now_[i].in_contact && r.kin.gap0 <= touch_tol_) {
+      now_[i] = {true, 0.0};
+      touches_.push_back("touch node " + std::to_string(r.key) + " on die " + scene_.dies[ifaces[r.iface].die].name);
+    }
+    next[{r.iface, r.key}] = now_[i];
+  }
+  state_ = std::move(next);
+  std::vector<char> on(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) on[i] = now_[i].in_contact;
+  std::vector<RowArea> area;
+  disc_.areas(v, rows, on, area);
+  kw_.resize(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) kw_[i] = area[i].kw;
+  bound_.assign(rows.size(), 0.0);
+  update_bounds(1.0);
+  results_.assign(rows.size(), {});
+  coulomb_relax_ = 1;
+  coulomb_change_ = INFINITY;
+}
+
+double DirectEnforcement::update_bounds(double relax) {
+  double change = 0, largest = 0;
+  for (std::size_t i = 0; i < bound_.size(); ++i) {
+    const double B = friction_bound(law(i), now_[i].in_contact, now_[i].normal, kw_[i]);
+    change = std::max(change, std::abs(B - bound_[i]));
+    largest = std::max(largest, B);
+    bound_[i] += relax * (B - bound_[i]);
+  }
+  return largest > 0 ? change / largest : 0.0;
+}
+
+void DirectEnforcement::constraints(const StepView&, std::vector<NodeConstraint>& out) const {
+  // v_node . n = v_die . n: the die's normal velocity; the node slides
+  // along the tangent.
+  for (std::size_t i = 0; i < rows_->size(); ++i)
+    if (now_[i].in_contact) {
+      const PairKinematics& k = (*rows_)[i].kin;
+      out.push_back({k.nodes[0], k.n, k.offset.dot(k.n)});
+    }
+}
+
+void DirectEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
+  for (std::size_t i = 0; i < rows_->size(); ++i) {
+    if (!now_[i].in_contact || !(bound_[i] > 0)) continue;
+    const PairKinematics& k = (*rows_)[i].kin;
+    RowLaw l;
+    l.normal = false;
+    l.fixed_bound = bound_[i];
+    l.a = smoothing_speed(i);
+    const RowTerm t = row_term(k, l, {vel[k.nodes[0]], Vec2::Zero(), Vec2::Zero()}, sink.needs_hessian());
+    sink.add(k.nodes.data(), k.k, t.energy, t.grad.data(), t.hess.data());
+  }
+}
+
+StepCheck DirectEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) {
+  StepCheck out;
+  out.events.swap(touches_);
+  const auto& rows = *rows_;
+  // F is the full nodal force; its normal part at a contact node is the
+  // die's normal reaction (friction acts along the tangent only).
+  double scale = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    RowResult& r = results_[i];
+    r = {};
+    if (!now_[i].in_contact) continue;
+    r.in_contact = true;
+    r.slip = slip_rate(rows[i].kin, vel);
+    if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
+    now_[i].normal = F[rows[i].kin.nodes[0]].dot(rows[i].kin.n);
+    scale = std::max(scale, std::abs(now_[i].normal));
+  }
+  bool released = false;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!now_[i].in_contact) continue;
+    // The die pushes the body along +n: a negative normal force is tension.
+    if (now_[i].normal < -release_tol_ * scale) {
+      now_[i] = {};
+      results_[i] = {};
+      released = true;
+      out.events.push_back("release node " + std::to_string(rows[i].key) + " from die " +
+                           scene_.dies[disc_.interfaces()[rows[i].iface].die].name);
+    } else {
+      // The die's force on the body: the whole nodal reaction (F includes
+      // the friction potential's gradient, -friction) plus the friction.
+      const Vec2 t(-rows[i].kin.n(1), rows[i].kin.n(0));
+      results_[i].normal = now_[i].normal;
+      results_[i].slave_force = F[rows[i].kin.nodes[0]] + results_[i].friction * t;
+    }
+  }
+  out.resolve = released;
+  if (released) {
+    std::vector<char> on(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) on[i] = now_[i].in_contact;
+    std::vector<RowArea> area;
+    disc_.areas(v, rows, on, area);
+    for (std::size_t i = 0; i < rows.size(); ++i) kw_[i] = area[i].kw;
+  }
+  // Coulomb: B = min(mu N, k w) with the new normal forces; solve again
+  // until the bounds settle (a fixed point on the normal forces). A pass
+  // that does not shrink the change by at least a quarter halves the
+  // relaxation (a period-2 oscillation between stick-capped and mu
+  // N-bounded nodes otherwise never settles).
+  const double previous = coulomb_change_;
+  coulomb_change_ = update_bounds(coulomb_relax_);
+  if (coulomb_ && coulomb_change_ > coulomb_tol_) {
+    out.resolve = true;
+    if (coulomb_change_ > 0.75 * previous) coulomb_relax_ = std::max(0.05, 0.5 * coulomb_relax_);
+  }
+  if (smoothing_.relax()) out.resolve = true;
+  for (std::size_t i = 0; i < rows.size(); ++i) state_[{rows[i].iface, rows[i].key}] = now_[i];
+  return out;
+}
+
+double DirectEnforcement::place_on_surfaces(const StepView& v, std::vector<Vec2>& x) {
+  max_placement_ = max_overshoot_ = 0;
+  const auto& ifaces = disc_.interfaces();
+  for (std::size_t i = 0; i < rows_->size(); ++i) {
+    const Index n = (*rows_)[i].kin.nodes[0];
+    const DieProjection p = scene_.dies[ifaces[(*rows_)[i].iface].die].project(x[n], v.time);
+    if (now_[i].in_contact) {
+      // At a sharp corner or a profile end the closest point is the vertex
+      // itself; a node there is left where it is.
+      if (p.at_vertex) continue;
+      max_placement_ = std::max(max_placement_, std::abs(p.distance));
+      x[n] = p.point;
+    } else if (p.distance < 0) {
+      // A free node that crossed the die within the step (landing control
+      // predicts the landing from the previous velocity, the midpoint moves
+      // with another): placed on the die, the overshoot reported.
+      max_overshoot_ = std::max(max_overshoot_, -p.distance);
+      x[n] = p.point;
+    }
+  }
+  return std::max(max_placement_, max_overshoot_);
+}
+
+void DirectEnforcement::columns(std::vector<NamedValue>& out) const {
+  out.push_back({"max_placement", max_placement_});
+  out.push_back({"max_overshoot", max_overshoot_});
+  if (coulomb_) out.push_back({"coulomb_change", coulomb_change_});
+}
+
+}  // namespace rpfem

@@ -1,0 +1,72 @@
+// "direct": rigid dies as kinematic constraints, ALPID style (Oh, Lahoti,
+// Altan 1981; Kobayashi, Oh, Altan 1989, sec. 8.4). A slave node in
+// contact with a die gets its normal velocity equal to the die's, imposed
+// exactly by elimination in a nodal frame rotated to the die normal at the
+// node's closest point (the row's n), and slides along the die tangent
+// against friction.
+//   Touch: a free node on (or by round-off just inside) the die; landing
+//   control (contact/contact_model.hpp) ends a step where the first free
+//   node lands.
+//   Release: a contact node whose normal nodal force turns tensile leaves.
+//   Corners and arcs: after each step the contact nodes are placed back on
+//   the die surface (a node sliding along an arc otherwise drifts off it by
+//   (v dt)^2 / 2R per step).
+//   Friction: the arctan law's potential B psi(gamma_T) per contact row
+//   (contact/row_terms.hpp) with B fixed in a solve: the friction factor
+//   m k w, or Coulomb's min(mu N, k w) with N the row's normal reaction,
+//   by a fixed point over the step's solves until B stops changing
+//   (relaxed when it oscillates).
+// Rows against dies only: contact between bodies needs another enforcement.
+#pragma once
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "contact/enforcement.hpp"
+#include "contact/row_terms.hpp"
+#include "io/case_file.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+class DirectEnforcement final : public ContactEnforcement {
+ public:
+  DirectEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc);
+  std::string name() const override { return "direct"; }
+  void begin_step(const StepView& v, const std::vector<ContactRow>& rows) override;
+  void constraints(const StepView& v, std::vector<NodeConstraint>& out) const override;
+  void add_terms(const StepView& v, const std::vector<Vec2>& vel, TermSink& sink) const override;
+  StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
+  const std::vector<RowResult>& results() const override { return results_; }
+  double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
+  void columns(std::vector<NamedValue>& out) const override;
+
+ private:
+  struct State {
+    bool in_contact = false;
+    double normal = 0;  // N, the last converged solve's normal reaction (> 0 pressing)
+  };
+  // Moves every bound toward the law's value at the current normal forces
+  // by the fraction relax; returns the largest change relative to the
+  // largest bound (0 if nothing changed).
+  double update_bounds(double relax);
+  const FrictionLaw& law(std::size_t i) const;
+  double smoothing_speed(std::size_t i) const;
+
+  const Scene& scene_;
+  const ContactDiscretization& disc_;
+  const std::vector<ContactRow>* rows_ = nullptr;
+  std::map<std::pair<int, Index>, State> state_;  // by row identity
+  std::vector<State> now_;       // per row
+  std::vector<double> kw_, bound_;
+  std::vector<RowResult> results_;
+  std::vector<std::string> touches_;
+  SmoothingContinuation smoothing_;
+  bool coulomb_ = false;
+  double speed_scale_ = 0;
+  double touch_tol_ = 0, release_tol_ = 0, coulomb_tol_ = 0;
+  double coulomb_relax_ = 1, coulomb_change_ = 0;
+  double max_placement_ = 0, max_overshoot_ = 0;
+};
+
+}  // namespace rpfem

@@ -1,0 +1,138 @@
+#include "ipopt/ipopt_enforcement.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "contact/row_terms.hpp"
+
+namespace rpfem {
+
+namespace {
+
+// Force scale of the objective: the softest body's yield stress over the
+// slave surfaces (what the contact could carry; a point contact at the
+// start carries far less, and its own load would put round-off above tol).
+double force_scale(const Scene& scene, const ContactDiscretization& disc) {
+  double sigma = INFINITY, area = 0;
+  for (const auto& b : scene.bodies) sigma = std::min(sigma, b.law.yield(0.0));
+  for (const auto& f : disc.interfaces()) area += f.area;
+  return sigma * area;
+}
+
+}  // namespace
+
+IpoptEnforcement::IpoptEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
+    : disc_(disc), solver_(scene, settings, force_scale(scene, disc)) {
+  friction_tol_ = settings.real("friction_tolerance", 1e-6, Range::positive(),
+                                "relative change of the friction bounds that ends the fixed point");
+  speed_scale_ = scene.largest_speed();
+}
+
+double IpoptEnforcement::smoothing_speed(std::size_t i) const {
+  return disc_.interfaces()[(*rows_)[i].iface].friction.a_relative * speed_scale_;
+}
+
+bool IpoptEnforcement::pressing(std::size_t i) const {
+  if (bound_of_[i] < 0) return false;
+  const BoundRow& b = bound_rows_[bound_of_[i]];
+  return b.force > 0 && b.end_gap < kPressGap * b.h;
+}
+
+void IpoptEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>& rows) {
+  rows_ = &rows;
+  bound_rows_.clear();
+  bound_of_.assign(rows.size(), -1);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].free) continue;
+    bound_of_[i] = static_cast<int>(bound_rows_.size());
+    BoundRow b;
+    b.kin = &rows[i].kin;
+    b.h = rows[i].h;
+    bound_rows_.push_back(b);
+  }
+  solver_.set_rows(&bound_rows_);
+  results_.assign(rows.size(), {});
+  // The first bounds of the step: from the last step's forces.
+  std::vector<double> force(rows.size(), 0.0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto it = last_force_.find({rows[i].iface, rows[i].key});
+    if (it != last_force_.end()) force[i] = it->second;
+  }
+  set_bounds(v, force);
+}
+
+void IpoptEnforcement::set_bounds(const StepView& v, const std::vector<double>& force) {
+  const auto& rows = *rows_;
+  std::vector<char> on(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) on[i] = force[i] > 0;
+  std::vector<RowArea> area;
+  disc_.areas(v, rows, on, area);
+  bound_.assign(rows.size(), 0.0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    bound_[i] = friction_bound(disc_.interfaces()[rows[i].iface].friction, on[i], force[i], area[i].kw);
+}
+
+void IpoptEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
+  for (std::size_t i = 0; i < rows_->size(); ++i) {
+    if (!(bound_[i] > 0) || (*rows_)[i].free) continue;
+    const PairKinematics& k = (*rows_)[i].kin;
+    std::array<Vec2, 3> v{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+    for (int a = 0; a < k.k; ++a) v[a] = vel[k.nodes[a]];
+    RowLaw l;
+    l.normal = false;
+    l.fixed_bound = bound_[i];
+    l.a = smoothing_speed(i);
+    const RowTerm t = row_term(k, l, v, sink.needs_hessian());
+    sink.add(k.nodes.data(), k.k, t.energy, t.grad.data(), t.hess.data());
+  }
+}
+
+StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>&) {
+  // The friction force of this solve, then the fixed point on the bounds.
+  StepCheck out;
+  const auto& rows = *rows_;
+  std::vector<double> force(rows.size(), 0.0), before = bound_;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    RowResult& r = results_[i];
+    r = {};
+    if (bound_of_[i] < 0) continue;
+    r.normal = bound_rows_[bound_of_[i]].force;
+    r.in_contact = pressing(i);
+    r.slip = slip_rate(rows[i].kin, vel);
+    if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
+    if (r.in_contact) force[i] = r.normal;
+  }
+  set_bounds(v, force);
+  double largest = 0, change = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    largest = std::max({largest, before[i], bound_[i]});
+    change = std::max(change, std::abs(bound_[i] - before[i]));
+  }
+  friction_change_ = largest > 0 ? change / largest : 0.0;
+  out.resolve = friction_change_ > friction_tol_;
+  return out;
+}
+
+void IpoptEnforcement::end_step(const StepView&, const std::vector<Vec2>&) {
+  // The next step's first bounds come from this step's forces.
+  last_force_.clear();
+  for (std::size_t i = 0; i < rows_->size(); ++i)
+    if (pressing(i)) last_force_[{(*rows_)[i].iface, (*rows_)[i].key}] = bound_rows_[bound_of_[i]].force;
+}
+
+void IpoptEnforcement::columns(std::vector<NamedValue>& out) const {
+  const Kkt& k = solver_.kkt();
+  out.push_back({"kkt_primal", k.primal});
+  out.push_back({"kkt_dual", k.dual});
+  out.push_back({"kkt_complementarity", k.complementarity});
+  out.push_back({"kkt_stationarity", k.stationarity});
+  out.push_back({"kkt_round_off", k.round_off});
+  out.push_back({"friction_change", friction_change_});
+}
+
+void IpoptEnforcement::derived(std::vector<NamedValue>& out) const {
+  solver_.derived(out);
+  for (const auto& f : disc_.interfaces()) out.push_back({"ipopt." + f.name + ".element_size_mm", f.h});
+}
+
+}  // namespace rpfem

@@ -1,0 +1,60 @@
+// "ipopt": the rows as the inequality constraints of each step's
+// constrained minimization (ipopt_step_solver.hpp), the active set Ipopt's
+// business. Friction: the arctan law's potential B psi(gamma_T)
+// (contact/row_terms.hpp) with its bound fixed in a solve, so the objective
+// stays a potential with a symmetric Hessian and Ipopt solves a convex
+// problem; the bound follows the multipliers by a fixed point over the
+// solves of a step until it changes by less than `friction_tolerance` of
+// the largest bound:
+//   friction factor: B = m k w on the rows pressing in the last solve
+//   Coulomb:         B = min(mu N, k w), N the last solve's multiplier
+// (k w: the sticking bound of the rows' contact areas, as everywhere).
+#pragma once
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "contact/enforcement.hpp"
+#include "io/case_file.hpp"
+#include "ipopt/ipopt_step_solver.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+class IpoptEnforcement final : public ContactEnforcement {
+ public:
+  IpoptEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc);
+  std::string name() const override { return "ipopt"; }
+  void begin_step(const StepView& v, const std::vector<ContactRow>& rows) override;
+  void add_terms(const StepView& v, const std::vector<Vec2>& vel, TermSink& sink) const override;
+  StepSolver* solver() override { return &solver_; }
+  StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
+  const std::vector<RowResult>& results() const override { return results_; }
+  void end_step(const StepView& v, const std::vector<Vec2>& vel) override;
+  void columns(std::vector<NamedValue>& out) const override;
+  std::optional<double> penetration_rel() const override { return solver_.kkt().primal; }
+  void derived(std::vector<NamedValue>& out) const override;
+
+ private:
+  // In contact after the last solve: at zero end gap (to kPressGap of the
+  // element size) with a compressive force. An interior point leaves tiny
+  // positive multipliers (about mu / slack) on rows far from contact; they
+  // must not count as contact (a ring's free faces got die friction).
+  bool pressing(std::size_t i) const;
+  static constexpr double kPressGap = 1e-6;
+  // k w and the friction bound of every row from the rows' normal forces.
+  void set_bounds(const StepView& v, const std::vector<double>& force);
+  double smoothing_speed(std::size_t i) const;
+
+  const ContactDiscretization& disc_;
+  IpoptStepSolver solver_;
+  const std::vector<ContactRow>* rows_ = nullptr;
+  std::vector<BoundRow> bound_rows_;
+  std::vector<int> bound_of_;  // per row: its BoundRow, -1 for a free row
+  std::vector<double> bound_;  // N, per row
+  std::vector<RowResult> results_;
+  std::map<std::pair<int, Index>, double> last_force_;  // N: the last accepted step's pressing forces
+  double speed_scale_ = 0, friction_tol_ = 0, friction_change_ = 0;
+};
+
+}  // namespace rpfem

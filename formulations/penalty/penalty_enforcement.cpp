@@ -1,0 +1,25 @@
+#include "penalty/penalty_enforcement.hpp"
+
+namespace rpfem {
+
+namespace {
+
+RegularizedSettings read_settings(const Scene& scene, CaseSection& s, const ContactDiscretization& disc) {
+  RegularizedSettings r;
+  const double size = scene.mesh.size();
+  const double factor = s.real("beta_factor", 1.0, Range::positive(), "times the default beta");
+  const auto beta = s.optional_real("beta", Range::positive(), "MPa s/mm (replaces the default)");
+  r.beta_hat = default_beta_hat(scene, disc, factor, beta);
+  r.gap_correction = s.flag("gap_correction", true);
+  r.touch_tol = s.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
+  r.release_tol = s.real("release_tolerance", 1e-9, Range::nonnegative(), "relative to the largest contact force");
+  r.speed_scale = scene.largest_speed();
+  return r;
+}
+
+}  // namespace
+
+PenaltyEnforcement::PenaltyEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
+    : RegularizedEnforcement(disc, read_settings(scene, settings, disc)) {}
+
+}  // namespace rpfem

@@ -1,0 +1,230 @@
+#include "contact/contact_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "model/boundary.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+namespace {
+
+// The force of a row on each of its nodes: c_a (N n + T t), the reaction
+// of the constraint gamma_N and the friction along gamma_T (their weights
+// on the nodal velocities are c_a n and c_a t).
+std::array<Vec2, 3> row_forces(const ContactRow& r, const RowResult& res) {
+  const Vec2 t(-r.kin.n(1), r.kin.n(0));
+  std::array<Vec2, 3> f{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+  for (int a = 0; a < r.kin.k; ++a) f[a] = r.kin.c[a] * (res.normal * r.kin.n + res.friction * t);
+  if (res.slave_force) f[0] = *res.slave_force;
+  return f;
+}
+
+bool carries(const RowResult& res) { return res.normal != 0 || res.friction != 0; }
+
+// A slave node touching within this fraction of the step is taken as in
+// contact at the next step (its landing is the touch tolerance's).
+constexpr double kNegligibleLanding = 1e-6;
+
+}  // namespace
+
+ContactModel::ContactModel(const Scene& scene, std::unique_ptr<ContactDiscretization> disc,
+                           std::unique_ptr<ContactEnforcement> enf, ContactModelSettings settings)
+    : scene_(scene), disc_(std::move(disc)), enf_(std::move(enf)), settings_(settings) {
+  for (const auto& f : disc_->interfaces()) any_bodies_ = any_bodies_ || f.die < 0;
+  for (int d = 0; d < static_cast<int>(scene.dies.size()); ++d)
+    if (scene.dies[d].friction.kind != FrictionLaw::Kind::None) friction_dies_.push_back(d);
+  sym_tol_ = 1e-9 * scene.mesh.size();
+}
+
+ContactInfo ContactModel::info() const {
+  ContactInfo i;
+  i.enforcement = enf_->name();
+  i.discretization = disc_->name();
+  for (const auto& d : scene_.dies) i.load_names.push_back(d.name);
+  std::vector<NamedValue> cols;
+  columns(nullptr, cols);
+  for (const auto& c : cols) i.column_names.push_back(c.name);
+  enf_->derived(i.derived);
+  i.derived.push_back({"contact.landing_control", settings_.landing_control ? 1.0 : 0.0});
+  return i;
+}
+
+void ContactModel::begin_step(const StepView& v) {
+  disc_->rows(v, rows_, events_);
+  enf_->begin_step(v, rows_);
+}
+
+void ContactModel::couplings(const StepView&, std::vector<std::vector<Index>>& out) const {
+  for (const ContactRow& r : rows_)
+    if (!r.free && r.kin.k > 1) out.push_back({r.kin.nodes.begin(), r.kin.nodes.begin() + r.kin.k});
+}
+
+StepCheck ContactModel::settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) {
+  StepCheck c = enf_->settle(v, vel, F);
+  c.events.insert(c.events.begin(), events_.begin(), events_.end());
+  events_.clear();
+  std::vector<char> on(rows_.size());
+  const auto& res = enf_->results();
+  for (std::size_t i = 0; i < rows_.size(); ++i) on[i] = res[i].in_contact;
+  disc_->areas(v, rows_, on, areas_);
+  return c;
+}
+
+std::optional<double> ContactModel::limit_dt(const StepView& v, const std::vector<Vec2>& vel) const {
+  // Landing control: the first free slave that the motion vel carries onto
+  // its master within the step, g0 + t gamma_N = 0, ends the step there.
+  if (!settings_.landing_control) return std::nullopt;
+  const auto& res = enf_->results();
+  std::optional<double> limit;
+  for (std::size_t i = 0; i < rows_.size() && i < res.size(); ++i) {
+    const ContactRow& r = rows_[i];
+    if (res[i].in_contact || !(r.kin.gap0 > 0)) continue;
+    PairKinematics along = r.kin;
+    along.n = r.gap_normal;
+    const double closing = -gap_rate(along, vel);
+    if (!(closing > 0)) continue;
+    const double t = r.kin.gap0 / closing;
+    if (t < kNegligibleLanding * v.dt || t >= v.dt) continue;
+    if (!limit || t < *limit) limit = t;
+  }
+  return limit;
+}
+
+ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>&) const {
+  ContactRecord out;
+  const auto& res = enf_->results();
+  const std::size_t n = vel.size();
+  out.force.assign(n, Vec2::Zero());
+  auto& pr = out.fields["contact_pressure"];
+  auto& sh = out.fields["contact_shear"];
+  auto& slip = out.fields["slip_velocity"];
+  auto& gap = out.fields["contact_gap"];
+  for (auto* f : {&pr, &sh, &slip, &gap}) f->assign(n, 0.0);
+  std::vector<Vec2> die_load(scene_.dies.size(), Vec2::Zero());
+  std::vector<std::vector<Index>> die_nodes(scene_.dies.size());
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    const ContactRow& r = rows_[i];
+    const Index s = r.kin.nodes[0];
+    gap[s] = r.kin.gap0;
+    if (!carries(res[i])) continue;
+    const auto f = row_forces(r, res[i]);
+    for (int a = 0; a < r.kin.k; ++a) out.force[r.kin.nodes[a]] += f[a];
+    const int die = disc_->interfaces()[r.iface].die;
+    if (die >= 0) die_load[die] += f[0], die_nodes[die].push_back(s);
+    // Pressure and shear over the slave node's share of the surface.
+    if (r.weight > 0) pr[s] += res[i].normal / r.weight, sh[s] += res[i].friction / r.weight;
+    if (res[i].in_contact) slip[s] = res[i].slip;
+  }
+  // A die's load: the force it exerts on the bodies, the mirrored part of
+  // a symmetric model included.
+  for (std::size_t d = 0; d < scene_.dies.size(); ++d)
+    out.loads.push_back(die_load[d].cwiseProduct(symmetry_load_factor(scene_.symmetry, *v.x, die_nodes[d], sym_tol_)));
+  std::vector<NamedValue> cols;
+  columns(&v, cols);
+  for (const auto& c : cols) out.columns.push_back(c.value);
+  out.penetration_rel = enf_->penetration_rel();
+  if (!out.penetration_rel) {
+    double worst = 0;
+    for (const ContactRow& r : rows_)
+      if (!r.free && r.kin.gap0 < 0) worst = std::max(worst, -r.kin.gap0 / r.h);
+    out.penetration_rel = worst;
+  }
+  return out;
+}
+
+double ContactModel::neutral_point(const StepView& v, int die) const {
+  // Along the die's contact (ordered by x), where the slip changes sign;
+  // with one sign throughout, the contact node that slips least.
+  const auto& res = enf_->results();
+  std::vector<std::pair<double, double>> on;  // (x, slip)
+  for (std::size_t i = 0; i < rows_.size(); ++i)
+    if (res[i].in_contact && disc_->interfaces()[rows_[i].iface].die == die)
+      on.push_back({(*v.x)[rows_[i].kin.nodes[0]](0), res[i].slip});
+  if (on.empty()) return 0.0;
+  std::sort(on.begin(), on.end());
+  const double tiny = 1e-9 * scene_.dies[die].motion.max_speed() + 1e-300;
+  const std::pair<double, double>* prev = nullptr;
+  for (const auto& c : on) {
+    if (std::abs(c.second) <= tiny) continue;
+    if (prev && (prev->second < 0) != (c.second < 0))
+      return prev->first + (c.first - prev->first) * prev->second / (prev->second - c.second);
+    prev = &c;
+  }
+  return std::min_element(on.begin(), on.end(), [](auto& a, auto& b) {
+           return std::abs(a.second) < std::abs(b.second);
+         })->first;
+}
+
+void ContactModel::columns(const StepView* v, std::vector<NamedValue>& out) const {
+  const bool live = v != nullptr && enf_->results().size() == rows_.size();
+  const auto& res = enf_->results();
+  const auto& ifaces = disc_->interfaces();
+  int candidates = 0, in_contact = 0;
+  double pen = 0, pen_rel = 0;
+  const int nb = scene_.mesh.num_bodies();
+  std::vector<Vec2> resultant(nb, Vec2::Zero());
+  std::vector<double> normal(nb, 0.0), friction(nb, 0.0);
+  std::vector<std::array<Vec2, 2>> side_force(ifaces.size(), {Vec2::Zero(), Vec2::Zero()});
+  std::vector<double> area(scene_.dies.size(), 0.0), pressing(scene_.dies.size(), 0.0);
+  if (live)
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      const ContactRow& r = rows_[i];
+      if (r.free) continue;
+      ++candidates;
+      in_contact += res[i].in_contact;
+      if (r.kin.gap0 < 0) pen = std::max(pen, -r.kin.gap0), pen_rel = std::max(pen_rel, -r.kin.gap0 / r.h);
+      const ContactInterface& f = ifaces[r.iface];
+      if (res[i].in_contact && f.die >= 0 && i < areas_.size())
+        area[f.die] += areas_[i].area, pressing[f.die] += res[i].normal;
+      if (!carries(res[i])) continue;
+      const auto F = row_forces(r, res[i]);
+      for (int a = 0; a < r.kin.k; ++a) {
+        const int b = scene_.mesh.node_body[r.kin.nodes[a]];
+        resultant[b] += F[a];
+        side_force[r.iface][b == f.bodies[0] ? 0 : 1] += F[a];
+      }
+      const int bs = scene_.mesh.node_body[r.kin.nodes[0]];
+      normal[bs] += res[i].normal;
+      friction[bs] += std::abs(res[i].friction);
+      if (r.kin.k == 3) {
+        const int bm = scene_.mesh.node_body[r.kin.nodes[1]];
+        normal[bm] += res[i].normal;
+        friction[bm] += std::abs(res[i].friction);
+      }
+    }
+  out.push_back({"contact_candidates", double(candidates)});
+  out.push_back({"contact_nodes", double(in_contact)});
+  out.push_back({"max_penetration", pen});
+  out.push_back({"max_penetration_rel", pen_rel});
+  if (any_bodies_) {
+    // Action and reaction between bodies: |sum of both sides| / largest side.
+    double imbalance = 0;
+    for (std::size_t i = 0; i < ifaces.size(); ++i) {
+      if (ifaces[i].die >= 0) continue;
+      const double big = std::max(side_force[i][0].norm(), side_force[i][1].norm());
+      if (big > 0) imbalance = std::max(imbalance, (side_force[i][0] + side_force[i][1]).norm() / big);
+    }
+    out.push_back({"force_imbalance", imbalance});
+  }
+  for (int b = 0; b < nb; ++b) {
+    const std::string& name = scene_.mesh.body_names[b];
+    // In axisymmetry radial forces cancel around the circumference.
+    out.push_back({name + ".contact_Fx", scene_.geometry == Geometry::Axisymmetric ? 0.0 : resultant[b](0)});
+    out.push_back({name + ".contact_Fy", resultant[b](1)});
+    out.push_back({name + ".normal_force", normal[b]});
+    out.push_back({name + ".friction_force", friction[b]});
+  }
+  for (std::size_t d = 0; d < scene_.dies.size(); ++d) {
+    // Contact area (lumped over the edges in contact: exact for flat dies)
+    // and the mean normal pressure sum(N) / area over it.
+    out.push_back({scene_.dies[d].name + ".contact_area", area[d]});
+    out.push_back({scene_.dies[d].name + ".mean_pressure", area[d] > 0 ? pressing[d] / area[d] : 0.0});
+  }
+  for (int d : friction_dies_) out.push_back({scene_.dies[d].name + ".neutral_x", live ? neutral_point(*v, d) : 0.0});
+  disc_->columns(out);
+  enf_->columns(out);
+}
+
+}  // namespace rpfem

@@ -1,0 +1,68 @@
+// A contact treatment as the product of its two axes: a discretization
+// (which rows exist) and an enforcement (how they are satisfied). What does
+// not depend on either is done here, once, for every combination: the
+// sparsity of the rows, landing control (a free slave predicted to land
+// within the step shortens it to the landing), and the record of a solve
+// (contact forces from the rows' results, die loads, contact areas and
+// pressures, penetration, the fields of result.h5).
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "contact/discretization.hpp"
+#include "contact/enforcement.hpp"
+#include "geometry/die.hpp"
+#include "model/contact_formulation.hpp"
+
+namespace rpfem {
+
+struct Scene;
+
+struct ContactModelSettings {
+  bool landing_control = true;  // contact.landing_control
+};
+
+class ContactModel final : public ContactFormulation {
+ public:
+  ContactModel(const Scene& scene, std::unique_ptr<ContactDiscretization> disc,
+               std::unique_ptr<ContactEnforcement> enf, ContactModelSettings settings);
+
+  ContactInfo info() const override;
+  void begin_step(const StepView& v) override;
+  void constraints(const StepView& v, std::vector<NodeConstraint>& out) const override { enf_->constraints(v, out); }
+  void couplings(const StepView& v, std::vector<std::vector<Index>>& out) const override;
+  void add_terms(const StepView& v, const std::vector<Vec2>& vel, TermSink& sink) const override {
+    enf_->add_terms(v, vel, sink);
+  }
+  TangentKind tangent() const override { return enf_->tangent(); }
+  void anchor_merit(const StepView& v, const std::vector<Vec2>& vel) override { enf_->anchor_merit(v, vel); }
+  StepSolver* solver() override { return enf_->solver(); }
+  StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
+  std::optional<double> limit_dt(const StepView& v, const std::vector<Vec2>& vel) const override;
+  double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override { return enf_->place_on_surfaces(v, x); }
+  void end_step(const StepView& v, const std::vector<Vec2>& vel) override { enf_->end_step(v, vel); }
+  ContactRecord record(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) const override;
+
+  const std::vector<ContactRow>& rows() const { return rows_; }
+  const ContactEnforcement& enforcement() const { return *enf_; }
+  const ContactDiscretization& discretization() const { return *disc_; }
+
+ private:
+  // The generic columns (names and, after a solve, values), then the
+  // discretization's and the enforcement's.
+  void columns(const StepView* v, std::vector<NamedValue>& out) const;
+  double neutral_point(const StepView& v, int die) const;
+
+  const Scene& scene_;
+  std::unique_ptr<ContactDiscretization> disc_;
+  std::unique_ptr<ContactEnforcement> enf_;
+  ContactModelSettings settings_;
+  std::vector<ContactRow> rows_;
+  std::vector<RowArea> areas_;  // of the last settled solve
+  std::vector<std::string> events_;
+  std::vector<int> friction_dies_;  // dies with friction: their neutral point is reported
+  bool any_bodies_ = false;
+  double sym_tol_ = 0;
+};
+
+}  // namespace rpfem

@@ -1,0 +1,74 @@
+// The rows of contact: what a discretization hands an enforcement. A row is
+// one constraint of non-penetration with its friction: the gap rate
+// gamma_N and the slip rate gamma_T of a slave point against its master as
+// weights on nodal velocities (contact/pair_kinematics.hpp, paper eq. 5, 9,
+// 12), the gap, and the share of the contact surface it stands for. An
+// enforcement sees rows only, never the search or the surfaces; a
+// discretization knows nothing of how its rows are satisfied.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "contact/friction_law.hpp"
+#include "contact/pair_kinematics.hpp"
+#include "core/types.hpp"
+
+namespace rpfem {
+
+// One contact interface (a [[contact_pairs]] entry) as the discretization
+// set it up.
+struct ContactInterface {
+  std::string name;        // "<body>-<die>" or "<body>-<with>"
+  int die = -1;            // the master die, -1 between bodies
+  std::array<int, 2> bodies{-1, -1};  // the body, and the other body (-1 for a die)
+  FrictionLaw friction;
+  double h = 0;            // mm, mean edge length of the (finer) slave surface at the start
+  double sigma_ref = 0;    // MPa, the softer body's initial flow stress
+  double area = 0;         // mm^2, the (finer) slave surface's area at the start
+};
+
+struct ContactRow {
+  PairKinematics kin;
+  int iface = 0;
+  // Identity across configurations: (iface, key), key the slave node. An
+  // enforcement carries its contact state (in contact, multipliers) by it.
+  Index key = 0;
+  double weight = 0;       // mm^2, the slave node's lumped contact area (all its surface edges)
+  double h = 0;            // mm, the local element size at the slave node
+  int master_element = -1; // the master segment's element (body master)
+  double friction_share = 1;  // the share of the interface's friction this row carries (two pass: 1/2)
+  // The direction the gap kin.gap0 is measured along: the master segment's
+  // own normal (kin.n is the least-squares line's, paper Fig. 3, which
+  // tilts by about gap / segment length away from contact), or the die's.
+  // Landing control predicts the landing along it.
+  Vec2 gap_normal = Vec2::Zero();
+  // An instantaneous solve (StepView::moves false) and the slave clear of
+  // its master: the row takes no part in the solve (it stays for landing
+  // control and the gap field).
+  bool free = false;
+};
+
+// Contact area and sticking bound of a row, given which rows are in
+// contact: over the slave's surface edges with both ends in contact.
+struct RowArea {
+  double area = 0;  // mm^2
+  double kw = 0;    // N, sum over those edges of k w (k = sigma_bar / sqrt 3, the shear yield
+                    // stress of the softer side; times friction_share)
+};
+
+// An enforcement's verdict on each row after a converged solve.
+struct RowResult {
+  bool in_contact = false;
+  double normal = 0;    // N, normal force (> 0 pressing)
+  double friction = 0;  // N, friction force on the slave along t = (-n_y, n_x)
+  double slip = 0;      // mm/s, gamma_T
+  // The force on the slave node when it is not c_0 (N n + T t): a node held
+  // by elimination whose reaction also holds the kernel's constraints there
+  // (a die's apex on the axis: the whole nodal reaction is the die's load,
+  // its radial part cancelling around the circumference).
+  std::optional<Vec2> slave_force;
+};
+
+}  // namespace rpfem

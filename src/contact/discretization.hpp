@@ -1,0 +1,31 @@
+// The discretization axis of contact: which rows exist (search, pairing,
+// roles), each row's gap and slip as weights on nodal velocities, and the
+// contact areas. Node-to-segment one pass and two pass today
+// (formulations/node_to_segment); a mortar discretization plugs in here
+// without touching an enforcement.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "contact/contact_row.hpp"
+#include "model/contact_formulation.hpp"
+
+namespace rpfem {
+
+class ContactDiscretization {
+ public:
+  virtual ~ContactDiscretization() = default;
+  virtual std::string name() const = 0;
+  virtual const std::vector<ContactInterface>& interfaces() const = 0;
+  // The rows of the configuration view.x: the gap of each in view.x, and
+  // (kin.gap_from) in view.x_from, where the solved velocity moves the
+  // nodes from. Events (role switches) for the step's log.
+  virtual void rows(const StepView& view, std::vector<ContactRow>& out, std::vector<std::string>& events) = 0;
+  // Contact areas and sticking bounds of `rows` given which are in contact.
+  virtual void areas(const StepView& view, const std::vector<ContactRow>& rows, const std::vector<char>& in_contact,
+                     std::vector<RowArea>& out) const = 0;
+  // Its own per-step scalars (history.csv): names, then values in order.
+  virtual void columns(std::vector<NamedValue>& out) const {}
+};
+
+}  // namespace rpfem

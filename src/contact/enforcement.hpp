@@ -1,0 +1,42 @@
+// The enforcement axis of contact: how the rows of a discretization are
+// satisfied (direct elimination, penalty, augmented Lagrangian, Ipopt's
+// constrained minimization). An enforcement sees rows (contact_row.hpp),
+// never the search or the surfaces; the hooks are the kernel's
+// (model/contact_formulation.hpp) with the rows handed over.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "contact/contact_row.hpp"
+#include "contact/discretization.hpp"
+#include "model/contact_formulation.hpp"
+
+namespace rpfem {
+
+class ContactEnforcement {
+ public:
+  virtual ~ContactEnforcement() = default;
+  virtual std::string name() const = 0;
+  // A configuration's rows (valid until the next call); the contact state
+  // is carried over by the rows' identity (iface, key).
+  virtual void begin_step(const StepView&, const std::vector<ContactRow>& rows) = 0;
+  virtual void constraints(const StepView&, std::vector<NodeConstraint>&) const {}
+  virtual void add_terms(const StepView&, const std::vector<Vec2>& v, TermSink&) const = 0;
+  virtual TangentKind tangent() const { return {}; }
+  virtual void anchor_merit(const StepView&, const std::vector<Vec2>& v) {}
+  virtual StepSolver* solver() { return nullptr; }
+  // After a converged solve: the rows' results (results()), and whether the
+  // contact state changed so that the step is solved again.
+  virtual StepCheck settle(const StepView&, const std::vector<Vec2>& v, const std::vector<Vec2>& F) = 0;
+  virtual const std::vector<RowResult>& results() const = 0;
+  virtual double place_on_surfaces(const StepView&, std::vector<Vec2>& x) { return 0; }
+  virtual void end_step(const StepView&, const std::vector<Vec2>& v) {}
+  // Its own per-step scalars: names and values in a fixed order.
+  virtual void columns(std::vector<NamedValue>& out) const {}
+  // Largest penetration per element size it measures itself (the end-of-
+  // step gap of a constrained minimization), nullopt to use the rows' gaps.
+  virtual std::optional<double> penetration_rel() const { return std::nullopt; }
+  virtual void derived(std::vector<NamedValue>& out) const {}
+};
+
+}  // namespace rpfem

@@ -1,0 +1,71 @@
+#include "contact/row_terms.hpp"
+
+#include <algorithm>
+
+namespace rpfem {
+
+double friction_bound(const FrictionLaw& law, bool in_contact, double N, double kw) {
+  if (!in_contact) return 0;
+  switch (law.kind) {
+    case FrictionLaw::Kind::Factor: return law.m * kw;                         // tau = m k
+    case FrictionLaw::Kind::Coulomb: return std::min(law.mu * std::max(N, 0.0), kw);  // tau = min(mu p, k)
+    case FrictionLaw::Kind::None: break;
+  }
+  return 0;
+}
+
+RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::array<Vec2, 3>& v, bool want_hess) {
+  RowTerm out;
+  const int nd = 2 * p.k;
+  const Vec2 t(-p.n(1), p.n(0));
+  Vec2 u = -p.offset;
+  for (int a = 0; a < p.k; ++a) u += p.c[a] * v[a];
+  // d gamma_N / dV = c (x) n,  d gamma_T / dV = c (x) t.
+  std::array<double, 6> dn{}, dt{};
+  for (int a = 0; a < p.k; ++a)
+    for (int i = 0; i < 2; ++i) dn[2 * a + i] = p.c[a] * p.n(i), dt[2 * a + i] = p.c[a] * t(i);
+  out.gamma_n = u.dot(p.n);
+  out.gamma_t = u.dot(t);
+
+  double dB = 0;  // dB / d gamma_N
+  if (law.normal) {
+    // Normal (paper eq. 7-8): N = max(0, lambda - beta r) one-sided.
+    const double r = out.gamma_n + p.gap_from * law.inv_dt;
+    const double shifted = law.one_sided ? r - law.lambda / law.beta : r;
+    const bool pressing = !law.one_sided || shifted < 0;
+    if (pressing) {
+      out.normal_force = -law.beta * shifted;
+      out.energy = 0.5 * law.beta * shifted * shifted;
+      for (int i = 0; i < nd; ++i) out.grad[i] = law.beta * shifted * dn[i];
+    }
+    constexpr double kLifted = 1e-12;  // RowLaw::keep_stiffness
+    const double k = pressing || shifted == 0 ? law.beta : law.keep_stiffness ? kLifted * law.beta : 0.0;
+    if (want_hess && k > 0)
+      for (int j = 0; j < nd; ++j)
+        for (int i = 0; i < nd; ++i) out.hess[j * nd + i] = k * dn[i] * dn[j];
+  }
+
+  // Friction (paper eq. 11-12).
+  if (law.fixed_bound >= 0) {
+    out.bound = law.fixed_bound;
+  } else if (law.kind == FrictionLaw::Kind::Factor) {
+    out.bound = law.m * law.k_weight;
+  } else if (law.kind == FrictionLaw::Kind::Coulomb) {
+    const double coulomb = law.mu * std::max(out.normal_force, 0.0);
+    out.bound = std::min(coulomb, law.k_weight);
+    if (out.normal_force > 0 && coulomb < law.k_weight) dB = -law.mu * law.beta;
+  }
+  const double energy_bound = law.merit_bound >= 0 ? law.merit_bound : out.bound;
+  if (out.bound <= 0 && dB == 0 && energy_bound <= 0) return out;
+  const ArctanPotential f = arctan_potential(out.gamma_t, law.a);
+  out.energy += energy_bound * f.psi;
+  out.friction = -out.bound * f.dpsi;
+  for (int i = 0; i < nd; ++i) out.grad[i] += out.bound * f.dpsi * dt[i];
+  if (want_hess)
+    for (int j = 0; j < nd; ++j)
+      for (int i = 0; i < nd; ++i)
+        out.hess[j * nd + i] += out.bound * f.d2psi * (dt[i] * dt[j]) + f.dpsi * dt[i] * dB * dn[j];
+  return out;
+}
+
+}  // namespace rpfem

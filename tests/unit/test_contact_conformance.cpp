@@ -1,0 +1,377 @@
+// Conformance of every contact treatment: one problem run through every
+// enforcement x discretization that applies to it, in-process on tiny
+// scenes (after MFEM's tests/unit/linalg/test_constrainedsolver.cpp, one
+// problem through every constrained solver):
+//   a block pressed between two flat dies (friction: none, factor, Coulomb),
+//   two stacked blocks with non-matching meshes (contact between bodies),
+//   one element on a floor die with a known multiplier.
+// Each combination must finish with its contact state settled; its contact
+// forces must sum to its die loads (and cancel between bodies); its terms'
+// gradient and Hessian must match finite differences of its energy and
+// gradient; the exact multiplier must come out; and without friction
+// direct, auglag and ipopt must agree, with the penalty converging to them
+// at first order in 1 / beta.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <ostream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "factory.hpp"
+#include "io/case_file.hpp"
+#include "io/scene_reader.hpp"
+#include "model/stepper.hpp"
+#include "temp_file.hpp"
+
+using namespace rpfem;
+
+namespace {
+
+// A plane-strain block, 2 x 1 mm (x = 0 a symmetry plane), pressed at
+// 1 mm/s by a flat top die onto a fixed flat floor die.
+std::string die_block(const std::string& friction) {
+  return R"(
+[run]
+name = "conformance_dies"
+geometry = "plane_strain"
+formulation = "direct"
+[bodies.block.material]
+K = 100.0
+n = 0.0
+m = 0.1
+rate_ref = 0.5
+[bodies.block.mesh]
+shape = "rectangle"
+width = 2.0
+height = 1.0
+nx = 4
+ny = 2
+[[symmetry]]
+normal = "x"
+[dies.floor]
+[[dies.floor.vertex]]
+x = 5.0
+y = 0.0
+[[dies.floor.vertex]]
+x = -1.0
+y = 0.0
+[dies.top]
+vy = -1.0
+[[dies.top.vertex]]
+x = -1.0
+y = 1.0
+[[dies.top.vertex]]
+x = 5.0
+y = 1.0
+)" + friction + R"(
+[[contact_pairs]]
+body = "block"
+sides = "bottom"
+die = "floor"
+[[contact_pairs]]
+body = "block"
+sides = "top"
+die = "top"
+[stepping]
+reference = "top"
+end_stroke = 0.1
+stroke_increment = 0.05
+)";
+}
+
+// Two stacked blocks, 2 x 0.5 mm each, meshed independently (4 and 3
+// edges at the interface), between frictionless platens.
+const char* kTwoBlocks = R"(
+[run]
+name = "conformance_bodies"
+geometry = "plane_strain"
+formulation = "penalty"
+[bodies.lower.material]
+K = 100.0
+n = 0.0
+m = 0.1
+rate_ref = 0.5
+[bodies.lower.mesh]
+shape = "rectangle"
+width = 2.0
+height = 0.5
+nx = 4
+ny = 2
+[[bodies.lower.velocity]]
+name = "bottom"
+side = "bottom"
+vy = 0.0
+[bodies.upper.material]
+K = 100.0
+n = 0.0
+m = 0.1
+rate_ref = 0.5
+[bodies.upper.mesh]
+shape = "rectangle"
+y0 = 0.5
+width = 2.0
+height = 0.5
+nx = 3
+ny = 2
+[[bodies.upper.velocity]]
+name = "top"
+side = "top"
+vy = -1.0
+[[symmetry]]
+normal = "x"
+[[contact_pairs]]
+body = "lower"
+sides = "top"
+with = "upper"
+with_sides = "bottom"
+[stepping]
+reference = "top"
+end_stroke = 0.1
+stroke_increment = 0.05
+)";
+
+// One element, 1 x 1 mm, perfectly plastic (K = 100 MPa), x = 0 a
+// symmetry plane, pressed at 1 mm/s onto a fixed frictionless floor die:
+// sigma_yy = -(2 / sqrt 3) K everywhere, the floor pressure exactly.
+const char* kOneElement = R"(
+[run]
+name = "conformance_multiplier"
+geometry = "plane_strain"
+formulation = "direct"
+[bodies.block.material]
+K = 100.0
+n = 0.0
+[bodies.block.mesh]
+shape = "rectangle"
+width = 1.0
+height = 1.0
+nx = 1
+ny = 1
+[[bodies.block.velocity]]
+name = "top"
+side = "top"
+vy = -1.0
+[[symmetry]]
+normal = "x"
+[dies.floor]
+[[dies.floor.vertex]]
+x = 3.0
+y = 0.0
+[[dies.floor.vertex]]
+x = -1.0
+y = 0.0
+[[contact_pairs]]
+body = "block"
+sides = "bottom"
+die = "floor"
+[stepping]
+reference = "top"
+end_stroke = 0.1
+stroke_increment = 0.05
+)";
+
+struct Collect : StepObserver {
+  std::vector<std::string> load_names;
+  std::vector<StepRecord> steps;
+  void on_start(const DerivedParameters&, const std::vector<std::string>& loads,
+                const std::vector<std::string>&) override {
+    load_names = loads;
+  }
+  void on_step(const StepRecord& r) override { steps.push_back(r); }
+  Vec2 load(const std::string& name, std::size_t step) const {
+    for (std::size_t i = 0; i < load_names.size(); ++i)
+      if (load_names[i] == name) return steps.at(step).loads.at(i);
+    ADD_FAILURE() << "no load " << name;
+    return Vec2::Zero();
+  }
+};
+
+// A scene with its contact treatment, run to its end.
+struct ContactRun {
+  std::unique_ptr<CaseFile> file;
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<ContactFormulation> contact;
+  Collect out;
+  RunOutcome outcome;
+  ContactRun(const std::string& text, const std::string& enforcement, const std::string& discretization,
+      const std::vector<std::string>& set = {}) {
+    // One file per process and run (ctest runs the cases in parallel).
+    static int count = 0;
+    const std::string path =
+        unit::write_temp("conformance_" + std::to_string(getpid()) + "_" + std::to_string(count++) + ".toml", text);
+    file = std::make_unique<CaseFile>(path, set);
+    scene = std::make_unique<Scene>(read_scene(*file));
+    contact = make_contact(*file, *scene, {enforcement, discretization});
+    outcome = run_scene(*scene, *contact, out);
+  }
+};
+
+// Collects the terms' energy, gradient and (dense) Hessian.
+struct Dense : TermSink {
+  double energy = 0;
+  Vec grad;
+  Mat hess;
+  explicit Dense(Index n) : grad(Vec::Zero(2 * n)), hess(Mat::Zero(2 * n, 2 * n)) {}
+  void add(const Index* nodes, int k, double e, const double* g, const double* H) override {
+    energy += e;
+    for (int a = 0; a < k; ++a)
+      for (int i = 0; i < 2; ++i) {
+        grad(2 * nodes[a] + i) += g[2 * a + i];
+        for (int b = 0; b < k; ++b)
+          for (int j = 0; j < 2; ++j) hess(2 * nodes[a] + i, 2 * nodes[b] + j) += H[(2 * b + j) * 2 * k + 2 * a + i];
+      }
+  }
+};
+
+struct Combination {
+  std::string scene, enforcement, discretization, friction;
+};
+
+void PrintTo(const Combination& c, std::ostream* os) {
+  *os << c.scene << " " << c.enforcement << "+" << c.discretization << " friction " << c.friction;
+}
+
+std::string scene_text(const Combination& c) {
+  if (c.scene == "dies") return die_block(c.friction);
+  if (c.scene == "bodies") return kTwoBlocks;
+  return kOneElement;
+}
+
+std::string friction_table(const std::string& law) {
+  if (law == "factor") return "[dies.top.friction]\nlaw = \"factor\"\nm = 0.3\n";
+  if (law == "coulomb") return "[dies.top.friction]\nlaw = \"coulomb\"\nmu = 0.2\n";
+  return "";
+}
+
+std::vector<Combination> combinations() {
+  std::vector<Combination> out;
+  for (const auto& d : discretizations()) {
+    for (const auto& e : formulations()) {
+      if (e.dies)
+        for (const std::string law : {"none", "factor", "coulomb"}) {
+          out.push_back({"dies", e.name, d.name, law});
+          if (law == "none") out.push_back({"multiplier", e.name, d.name, law});
+        }
+      if (e.bodies) out.push_back({"bodies", e.name, d.name, "none"});
+    }
+  }
+  return out;
+}
+
+std::string label(const testing::TestParamInfo<Combination>& p) {
+  return p.param.scene + "_" + p.param.enforcement + "_" + p.param.discretization + "_" + p.param.friction;
+}
+
+class Conformance : public testing::TestWithParam<Combination> {};
+
+TEST_P(Conformance, SettlesBalancesAndHasExactDerivatives) {
+  const Combination& c = GetParam();
+  ContactRun run(c.scene == "dies" ? die_block(friction_table(c.friction)) : scene_text(c), c.enforcement, c.discretization);
+  ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
+  const Scene& scene = *run.scene;
+  const auto& steps = run.out.steps;
+  ASSERT_GE(steps.size(), 3u);
+  // The contact state settles: every step well within the kernel's passes.
+  for (const auto& s : steps) EXPECT_LE(s.contact_passes, 30) << "step " << s.step;
+  for (const auto& s : steps) {
+    const double scale = std::max(1.0, s.contact_force.empty() ? 0.0 : [&] {
+      double m = 0;
+      for (const Vec2& f : s.contact_force) m = std::max(m, f.norm());
+      return m;
+    }());
+    if (c.scene == "bodies") {
+      // Between bodies action equals reaction: the contact forces cancel.
+      Vec2 sum = Vec2::Zero();
+      for (const Vec2& f : s.contact_force) sum += f;
+      EXPECT_LT(sum.norm(), 1e-9 * scale) << "step " << s.step;
+      continue;
+    }
+    // A die's load is the contact force on its side's nodes (the mirrored
+    // half of the block doubles its y component; x cancels).
+    for (const std::string side : {"top", "bottom"}) {
+      const std::string die = side == "top" ? "top" : "floor";
+      if (c.scene == "multiplier" && die == "top") continue;
+      double fy = 0;
+      std::vector<char> on(scene.mesh.num_nodes(), 0);
+      for (const Edge& e : scene.mesh.sides.at("block." + side)) on[e.a] = on[e.b] = 1;
+      for (Index n = 0; n < scene.mesh.num_nodes(); ++n)
+        if (on[n]) fy += s.contact_force[n](1);
+      EXPECT_NEAR(run.out.load(die, s.step)(1), 2 * fy, 1e-9 * scale) << die << " at step " << s.step;
+    }
+  }
+  if (c.scene == "multiplier") {
+    // The floor nodes' pressure is the exact stress (2 / sqrt 3) K.
+    const double exact = 2.0 / std::sqrt(3.0) * 100.0;
+    for (const auto& s : steps)
+      for (Index n = 0; n < scene.mesh.num_nodes(); ++n)
+        if (std::abs(s.x[n](1)) < 1e-12)
+          EXPECT_NEAR(s.node_fields.at("contact_pressure")[n], exact, 1e-6 * exact) << "node " << n;
+  }
+
+  // The terms at the last configuration, at its velocities and nearby:
+  // gradient against the energy's finite differences (a potential), Hessian
+  // against the gradient's (the consistent tangent).
+  const StepRecord& last = steps.back();
+  StepView view;
+  view.mesh = &scene.mesh;
+  view.x = view.x_from = &last.x;
+  view.flow_stress = &last.flow_stress;
+  view.geometry = scene.geometry;
+  view.time = view.time_from = last.time;
+  view.dt = scene.stepping.stroke_increment;  // the reference speed is 1 mm/s
+  view.step = last.step + 1;
+  run.contact->begin_step(view);
+  const Index n = scene.mesh.num_nodes();
+  const TangentKind kind = run.contact->tangent();
+  for (double shift : {0.0, 0.05}) {
+    std::vector<Vec2> v = last.v;
+    for (Index i = 0; i < n; ++i) v[i] += shift * Vec2(std::sin(1.0 + i), std::cos(2.0 * i));
+    Dense at(n);
+    run.contact->anchor_merit(view, v);
+    run.contact->add_terms(view, v, at);
+    const double h = 1e-7;
+    const double gscale = std::max(1.0, at.grad.cwiseAbs().maxCoeff());
+    const double hscale = std::max(1.0, at.hess.cwiseAbs().maxCoeff());
+    for (Index k = 0; k < 2 * n; ++k) {
+      std::vector<Vec2> vp = v, vm = v;
+      vp[k / 2](k % 2) += h;
+      vm[k / 2](k % 2) -= h;
+      Dense p(n), m(n);
+      run.contact->add_terms(view, vp, p);
+      run.contact->add_terms(view, vm, m);
+      if (kind.potential || kind.merit)
+        EXPECT_NEAR(at.grad(k), (p.energy - m.energy) / (2 * h), 1e-5 * gscale) << "gradient, dof " << k;
+      const Vec fd = (p.grad - m.grad) / (2 * h);
+      for (Index i = 0; i < 2 * n; ++i)
+        EXPECT_NEAR(at.hess(i, k), fd(i), 1e-5 * hscale) << "Hessian (" << i << ", " << k << ")";
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryCombination, Conformance, testing::ValuesIn(combinations()), label);
+
+// Frictionless, the enforcements meet the same Kuhn-Tucker conditions:
+// direct, auglag and ipopt agree, and the penalty converges to them at
+// first order in 1 / beta.
+TEST(Conformance, FrictionlessEnforcementsAgreeToFirstOrderInOneOverBeta) {
+  const std::string text = die_block("");
+  const auto final_load = [&](const std::string& e, const std::vector<std::string>& set) {
+    ContactRun run(text, e, "", set);
+    EXPECT_TRUE(run.outcome.finished) << e << ": " << run.outcome.reason;
+    return run.out.load("top", run.out.steps.size() - 1)(1);
+  };
+  const double direct = final_load("direct", {});
+  EXPECT_NEAR(final_load("auglag", {}), direct, 1e-6 * std::abs(direct));
+  EXPECT_NEAR(final_load("ipopt", {}), direct, 1e-6 * std::abs(direct));
+  const double d1 = std::abs(final_load("penalty", {"formulations.penalty.beta_factor=1e-2"}) - direct);
+  const double d2 = std::abs(final_load("penalty", {"formulations.penalty.beta_factor=1e-1"}) - direct);
+  EXPECT_GT(d1, 1e-9 * std::abs(direct));  // measurable at 1e-2 of the default
+  EXPECT_NEAR(std::log10(d1 / d2), 1.0, 0.2) << d1 << " " << d2;
+}
+
+}  // namespace

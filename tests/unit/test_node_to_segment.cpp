@@ -1,0 +1,132 @@
+// The node-to-segment discretization (formulations/node_to_segment): the
+// rows against a flat die, their contact areas and sticking bounds k w
+// over the edges in contact, and the two-pass share of friction.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <string>
+
+#include "io/case_file.hpp"
+#include "io/scene_reader.hpp"
+#include "node_to_segment/node_to_segment.hpp"
+#include "temp_file.hpp"
+
+using namespace rpfem;
+
+namespace {
+
+// An axisymmetric cylinder R = 10 mm whose top face (10 edges of 1 mm)
+// touches a flat die at y = 10.
+const char* kCylinder = R"(
+[run]
+name = "nts_areas"
+geometry = "axisymmetric"
+formulation = "direct"
+[bodies.billet.material]
+K = 300.0
+n = 0.0
+[bodies.billet.mesh]
+shape = "rectangle"
+width = 10.0
+height = 10.0
+nx = 10
+ny = 2
+[dies.top]
+vy = -1.0
+[[dies.top.vertex]]
+x = -1.0
+y = 10.0
+[[dies.top.vertex]]
+x = 30.0
+y = 10.0
+[[contact_pairs]]
+body = "billet"
+sides = "top"
+die = "top"
+[stepping]
+reference = "top"
+end_stroke = 1.0
+stroke_increment = 0.1
+)";
+
+// The scene of a case text, its one-pass discretization and a view of its
+// initial configuration (flow stress 300 MPa everywhere).
+struct CylinderScene {
+  CaseFile file;
+  Scene scene;
+  NodeToSegment disc;
+  std::vector<double> flow;
+  StepView view;
+  explicit CylinderScene(const std::string& text)
+      : file(unit::write_temp("nts_case_" + std::to_string(getpid()) + ".toml", text)), scene(read_scene(file)),
+        disc(scene, file.root().section("contact"), false), flow(scene.mesh.num_elements(), 300.0) {
+    view.mesh = &scene.mesh;
+    view.x = view.x_from = &scene.mesh.x;
+    view.flow_stress = &flow;
+    view.geometry = scene.geometry;
+    view.dt = 0.1;
+  }
+};
+
+}  // namespace
+
+TEST(NodeToSegment, DieRowsAreasAndStickingBounds) {
+  CylinderScene s(kCylinder);
+  const Scene& scene = s.scene;
+  NodeToSegment& disc = s.disc;
+  StepView& v = s.view;
+  std::vector<ContactRow> rows;
+  std::vector<std::string> events;
+  disc.rows(v, rows, events);
+  ASSERT_EQ(rows.size(), 11u);  // every node of the top face
+  for (const ContactRow& r : rows) {
+    EXPECT_EQ(r.kin.k, 1);
+    EXPECT_NEAR(r.kin.gap0, 0.0, 1e-12);
+    EXPECT_NEAR(r.kin.n(1), -1.0, 1e-12);  // the die's outward normal points down into the billet
+    EXPECT_NEAR(r.h, 1.0, 1e-12);
+  }
+  std::vector<char> on(rows.size(), 1);
+  std::vector<RowArea> area;
+  disc.areas(v, rows, on, area);
+  double A = 0, kw = 0, w = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) A += area[i].area, kw += area[i].kw, w += rows[i].weight;
+  const double k = 300.0 / std::sqrt(3.0);
+  EXPECT_NEAR(A, kPi * 100, 1e-9);  // pi R^2 of the face
+  EXPECT_NEAR(w, kPi * 100, 1e-9);
+  EXPECT_NEAR(kw, k * kPi * 100, 1e-6);
+  // A node whose neighbour left the die loses that edge's area: the node at
+  // r = 9 keeps its inner edge only, 2 pi int_8^9 r N(r) dr = 2 pi (2 9 + 8) / 6.
+  int at10 = -1, at9 = -1;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double r = scene.mesh.x[rows[i].key](0);
+    if (std::abs(r - 10) < 1e-12) at10 = static_cast<int>(i);
+    if (std::abs(r - 9) < 1e-12) at9 = static_cast<int>(i);
+  }
+  ASSERT_GE(at10, 0);
+  ASSERT_GE(at9, 0);
+  on[at10] = 0;
+  disc.areas(v, rows, on, area);
+  EXPECT_NEAR(area[at9].area, 2 * kPi * (2 * 9 + 8) / 6.0, 1e-12);
+  EXPECT_EQ(area[at10].area, 0.0);
+  EXPECT_NEAR(area[at9].kw, k * area[at9].area, 1e-9);
+}
+
+TEST(NodeToSegment, InstantaneousSolveFreesRowsClearOfTheirMaster) {
+  std::string text = kCylinder;
+  for (std::size_t at; (at = text.find("y = 10.0")) != std::string::npos;) text.replace(at, 8, "y = 10.5");
+  CylinderScene s(text);
+  NodeToSegment& disc = s.disc;
+  StepView& v = s.view;
+  std::vector<ContactRow> rows;
+  std::vector<std::string> events;
+  disc.rows(v, rows, events);
+  for (const ContactRow& r : rows) EXPECT_FALSE(r.free);
+  v.moves = false;  // an instantaneous solve: a gap of 0.5 mm takes no part
+  disc.rows(v, rows, events);
+  for (const ContactRow& r : rows) {
+    EXPECT_TRUE(r.free);
+    EXPECT_NEAR(r.kin.gap0, 0.5, 1e-12);
+  }
+}
