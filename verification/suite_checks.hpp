@@ -19,8 +19,15 @@
 
 namespace rpfem {
 
+// A check's metric, as above.
+enum class CheckMetric { LoadDifference, HistoryMax, Finished };
+// Its name in checks.toml ("load_difference", ...).
+const std::string& metric_name(CheckMetric metric);
+
 struct SuiteCheck {
-  std::string scene, formulation, variant, metric, reference, reference_scene, reference_load, column, floor, issue;
+  std::string scene, formulation, variant;
+  CheckMetric metric = CheckMetric::Finished;
+  std::string reference, reference_scene, reference_load, column, floor, issue;
   double tolerance = 0, from = 0, stroke_tolerance = 0;
 };
 

@@ -17,11 +17,19 @@ std::vector<std::string> optional_texts(CaseSection& s, const std::string& key, 
   return s.has(key) ? s.text_array(key, what) : std::vector<std::string>{};
 }
 
+const NamedValues<StudyReference> kReferences{{"none", StudyReference::None},
+                                              {"formulation", StudyReference::Formulation},
+                                              {"richardson", StudyReference::Richardson}};
+const NamedValues<LoadMeasure> kMeasures{{"final", LoadMeasure::Final}, {"mean", LoadMeasure::Mean}};
+
 void check_formulation(const CaseSection& s, const std::string& key, const std::string& name) {
   if (!find_formulation(name)) s.fail(key, "a formulation (" + formulation_names() + "), got '" + name + "'");
 }
 
 }  // namespace
+
+const std::string& reference_name(StudyReference kind) { return name_of(kReferences, kind); }
+const std::string& measure_name(LoadMeasure measure) { return name_of(kMeasures, measure); }
 
 Study read_study(const std::string& path, const std::string& cases_dir, bool quick) {
   CaseFile file(path);
@@ -65,16 +73,16 @@ Study read_study(const std::string& path, const std::string& cases_dir, bool qui
     return std::any_of(st.axes.begin(), st.axes.end(), [&](const StudyAxis& a) { return a.key == key; });
   };
   CaseSection r = s.section("reference");
-  st.reference = r.text("kind", std::string("none"), {"none", "formulation", "richardson"});
+  st.reference = r.choice("kind", std::string("none"), kReferences);
   st.from = r.real("from", 0.0, Range::nonnegative(), "mm");
-  if (st.reference == "formulation") {
+  if (st.reference == StudyReference::Formulation) {
     st.reference_formulation = r.text("formulation", std::nullopt);
     check_formulation(r, "formulation", st.reference_formulation);
     st.reference_set = optional_texts(r, "set", "overrides of the reference run");
-  } else if (st.reference == "richardson") {
+  } else if (st.reference == StudyReference::Richardson) {
     st.richardson_axis = r.text("axis", std::nullopt);
     if (!has_axis(st.richardson_axis)) r.fail("axis", "the key of one of the study's axes");
-    st.measure = r.text("measure", std::string("final"), {"final", "mean"});
+    st.measure = r.choice("measure", std::string("final"), kMeasures);
     st.reference_formulation = r.text("formulation", std::string());
     if (!st.reference_formulation.empty()) {
       const auto f = std::find_if(st.axes.begin(), st.axes.end(), [](const StudyAxis& a) { return a.formulation(); });

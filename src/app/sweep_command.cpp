@@ -182,7 +182,7 @@ int write_sweep(const SweepPlan& plan) {
   // with a reference formulation, that formulation's estimate serves the
   // runs of every formulation at the same other values.
   std::vector<RichardsonGroup> rich;
-  if (st.reference == "richardson") {
+  if (st.reference == StudyReference::Richardson) {
     const std::size_t ax = axis_index(st, st.richardson_axis);
     const bool common = !st.reference_formulation.empty();
     const std::size_t fax = common ? axis_index(st, "formulation") : st.axes.size();
@@ -192,7 +192,9 @@ int write_sweep(const SweepPlan& plan) {
       if (common) key[fax] = 0;
       return key;
     };
-    auto compared = [&](std::size_t i) { return st.measure == "mean" ? out[i].mean_load : out[i].m.final_load; };
+    auto compared = [&](std::size_t i) {
+      return st.measure == LoadMeasure::Mean ? out[i].mean_load : out[i].m.final_load;
+    };
     std::map<std::vector<std::size_t>, std::vector<std::size_t>> groups;
     for (std::size_t i = 0; i < n; ++i)
       if (out[i].finished && (!common || runs[i].formulation == st.reference_formulation))
@@ -284,9 +286,10 @@ int write_sweep(const SweepPlan& plan) {
                    {"set", to_array(st.set)},
                    {"command_line_set", to_array(opt.overrides)},
                    {"axes", axes},
-                   {"reference", toml::table{{"kind", st.reference}, {"formulation", st.reference_formulation},
+                   {"reference", toml::table{{"kind", reference_name(st.reference)},
+                                             {"formulation", st.reference_formulation},
                                              {"axis", st.richardson_axis}, {"from_mm", st.from},
-                                             {"measure", st.measure}}},
+                                             {"measure", measure_name(st.measure)}}},
                    {"runs", run_list},
                    {"version", kVersion},
                    {"wall_time_s", seconds_since(plan.start)},
@@ -314,7 +317,7 @@ int write_sweep(const SweepPlan& plan) {
     for (const auto& g : rich) {
       if (g.r.ok)
         std::printf("  Richardson %s: observed order %.3f, extrapolated %s load %.6g kN\n", g.label.c_str(), g.r.order,
-                    st.measure.c_str(), g.r.extrapolated);
+                    measure_name(st.measure).c_str(), g.r.extrapolated);
       else
         std::printf("  Richardson %s: %s\n", g.label.c_str(), g.r.note.c_str());
     }
