@@ -1,4 +1,4 @@
-// Acceptance checks of the formulation issues as data (verification/
+// The contact formulations' acceptance checks as data (verification/
 // checks.toml), evaluated on a suite folder written by `rpfem suite`
 // (runs in DIR/<scene>/<formulation>[/<variant>]/):
 //   metric = "load_difference": the largest relative difference of the
