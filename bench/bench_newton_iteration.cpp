@@ -1,5 +1,5 @@
 // Cost of one Newton iteration of the kernel against the bare sparse direct
-// solve, for meshes of about 1e3, 1e4 and 1e5 unknowns (kernel issue item 4).
+// solve, for meshes of about 1e3, 1e4 and 1e5 unknowns.
 //
 //   build/bench/rpfem_bench --benchmark_counters_tabular=true
 //

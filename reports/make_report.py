@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The suite's comparison report (issue 6), from a suite folder written by
+"""The suite's comparison report, from a suite folder written by
 `rpfem suite`: OUT/report.html (self-contained, figures embedded) and its
 Markdown twin OUT/report.md (figures in OUT/report_files/).
 

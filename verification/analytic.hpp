@@ -32,8 +32,8 @@ double slab_upsetting_pressure_ratio(double m, double R, double H);
 
 // Ring compression with frictionless dies (homogeneous deformation, volume
 // conserved): every radius scales as sqrt(H0/H), so the inner diameter
-// changes by sqrt(H0/H) - 1 (a fraction; the "1 - sqrt(H0/H)" is the
-// same magnitude with the sign of a decrease).
+// changes by sqrt(H0/H) - 1 (a fraction, positive: the hole grows; as a
+// decrease, "1 - sqrt(H0/H)", it has the same magnitude).
 double ring_inner_diameter_change_frictionless(double H0, double H);
 
 }  // namespace rpfem

@@ -18,6 +18,11 @@ namespace rpfem {
 
 namespace {
 
+const NamedValues<MeasureKind> kMeasureKinds{{"load_difference", MeasureKind::LoadDifference},
+                                             {"history_max", MeasureKind::HistoryMax},
+                                             {"summary", MeasureKind::Summary}};
+const NamedValues<RunOutcome> kOutcomes{{"finished", RunOutcome::Finished}, {"stopped", RunOutcome::Stopped}};
+
 // A measure as read, with its reference run still unresolved.
 struct ReadMeasure {
   ExpectedMeasure m;
@@ -52,22 +57,22 @@ ReadExpectation read_expect(CaseSection t, const std::string& case_file) {
   only_keys(t, {"outcome", "reason_contains", "warnings", "measure"});
   ReadExpectation out;
   Expectation& e = out.e;
-  e.outcome = t.text("outcome", std::nullopt, {"finished", "stopped"});
+  e.outcome = t.choice("outcome", std::nullopt, kOutcomes);
   if (t.has("reason_contains")) {
-    if (e.outcome != "stopped") t.fail("reason_contains", "only with outcome = \"stopped\"");
+    if (e.outcome != RunOutcome::Stopped) t.fail("reason_contains", "only with outcome = \"stopped\"");
     e.reason_contains = t.text_array("reason_contains", "words the stop reason must contain");
   }
   if (t.has("warnings")) e.warnings = t.text_array("warnings", "words of each warning the run must record");
   for (CaseSection s : t.table_array("measure")) {
     ReadMeasure r;
     ExpectedMeasure& m = r.m;
-    m.what = s.text("what", std::nullopt, {"load_difference", "history_max", "summary"});
-    if (m.what == "load_difference")
+    m.what = s.choice("what", std::nullopt, kMeasureKinds);
+    if (m.what == MeasureKind::LoadDifference)
       only_keys(s, {"what", "load", "reference_load", "from", "stroke_tolerance", "reference_case",
                     "reference_formulation", "reference_set", "min", "max"});
     else
-      only_keys(s, {"what", m.what == "summary" ? "key" : "column", "min", "max"});
-    if (m.what == "load_difference") {
+      only_keys(s, {"what", m.what == MeasureKind::Summary ? "key" : "column", "min", "max"});
+    if (m.what == MeasureKind::LoadDifference) {
       m.column = s.text("load", std::nullopt);
       m.reference_load = s.text("reference_load", m.column);
       m.from = s.real("from", 0.0, Range::nonnegative(), "mm of stroke");
@@ -81,7 +86,7 @@ ReadExpectation read_expect(CaseSection t, const std::string& case_file) {
         r.reference.formulation.clear();
       if (s.has("reference_set")) r.reference.overrides = s.text_array("reference_set", "overrides \"key.path=value\"");
     } else {
-      m.column = m.what == "summary" ? s.text("key", std::nullopt) : s.text("column", std::nullopt);
+      m.column = m.what == MeasureKind::Summary ? s.text("key", std::nullopt) : s.text("column", std::nullopt);
     }
     m.min = s.optional_real("min", Range::any());
     m.max = s.optional_real("max", Range::any());
@@ -131,13 +136,13 @@ double largest_magnitude(const std::vector<double>& v) {
 
 // The measured value of m on the run in dir.
 double measure(const ExpectedCase& c, const ExpectedMeasure& m, const std::string& dir, const std::string& runs_dir) {
-  if (m.what == "summary") {
+  if (m.what == MeasureKind::Summary) {
     const auto v = summary_number(dir, m.column);
     if (!v) throw std::runtime_error("summary.json has no number '" + m.column + "'");
     return *v;
   }
   const History a = read_history(dir + "/history.csv");
-  if (m.what == "history_max") return largest_magnitude(a.at(m.column));
+  if (m.what == MeasureKind::HistoryMax) return largest_magnitude(a.at(m.column));
   const std::string ref_dir = runs_dir + "/" + c.runs[m.reference].label;
   if (!run_finished(ref_dir))
     throw std::runtime_error("the reference run " + describe(c.runs[m.reference]) + " did not finish");
@@ -152,6 +157,9 @@ std::string sci(double x) {
 }
 
 }  // namespace
+
+const std::string& measure_kind_name(MeasureKind what) { return name_of(kMeasureKinds, what); }
+const std::string& outcome_name(RunOutcome outcome) { return name_of(kOutcomes, outcome); }
 
 std::vector<std::string> ExpectedRun::arguments() const {
   std::vector<std::string> a{case_file, "--quiet"};
@@ -189,7 +197,7 @@ ExpectedCase read_expected_case(const std::string& case_file) {
     e.run = static_cast<int>(i);
     for (const ReadMeasure& r : all[i].second.measures) {
       ExpectedMeasure m = r.m;
-      if (m.what == "load_difference") {
+      if (m.what == MeasureKind::LoadDifference) {
         const auto it = std::find_if(out.runs.begin(), out.runs.end(),
                                      [&](const ExpectedRun& x) { return same_run(x, r.reference); });
         m.reference = static_cast<int>(it - out.runs.begin());
@@ -214,7 +222,8 @@ ExpectationResult evaluate_expectation(const ExpectedCase& c, const Expectation&
   std::vector<std::string> failed;
   const Summary summary(dir);
   const std::string status = summary.string("status").value_or("no summary.json");
-  if (status != e.outcome) failed.push_back("outcome " + status + ", expected " + e.outcome);
+  const std::string& expected = outcome_name(e.outcome);
+  if (status != expected) failed.push_back("outcome " + status + ", expected " + expected);
   const std::string reason = summary.string("reason").value_or("");
   for (const auto& w : e.reason_contains)
     if (!contains(reason, w)) failed.push_back("the stop reason lacks '" + w + "': " + reason);
@@ -228,7 +237,7 @@ ExpectationResult evaluate_expectation(const ExpectedCase& c, const Expectation&
   std::vector<std::string> dirs{dir};
   for (const ExpectedMeasure& m : e.measures) {
     MeasuredValue v;
-    v.name = m.what + " " + m.column;
+    v.name = measure_kind_name(m.what) + " " + m.column;
     if (m.reference >= 0) {
       v.name += " vs " + describe(c.runs[m.reference]);
       const std::string d = runs_dir + "/" + c.runs[m.reference].label;
@@ -250,7 +259,7 @@ ExpectationResult evaluate_expectation(const ExpectedCase& c, const Expectation&
     if (const std::string bad = non_finite_entries(d); !bad.empty()) failed.push_back(d + ": " + bad);
   r.pass = failed.empty();
   for (const auto& f : failed) r.message += (r.message.empty() ? "" : "; ") + f;
-  if (r.pass) r.message = "as expected (" + e.outcome + ")";
+  if (r.pass) r.message = "as expected (" + expected + ")";
   return r;
 }
 

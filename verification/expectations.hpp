@@ -31,8 +31,18 @@ struct ExpectedRun {
   std::vector<std::string> arguments() const;  // after `rpfem run`, without --out
 };
 
+// [[expect.measure]] what, as above.
+enum class MeasureKind { LoadDifference, HistoryMax, Summary };
+// [expect] outcome: how the run must end (summary.json status).
+enum class RunOutcome { Finished, Stopped };
+
+// Their names in a case file ("load_difference", "finished", ...).
+const std::string& measure_kind_name(MeasureKind what);
+const std::string& outcome_name(RunOutcome outcome);
+
 struct ExpectedMeasure {
-  std::string what, column;  // column: the load, history column or summary key
+  MeasureKind what = MeasureKind::Summary;
+  std::string column;  // the load, history column or summary key
   std::string reference_load;
   int reference = -1;  // index into ExpectedCase::runs (load_difference)
   double from = 0, stroke_tolerance = 0;  // mm
@@ -41,7 +51,7 @@ struct ExpectedMeasure {
 
 struct Expectation {
   int run = 0;  // index into ExpectedCase::runs
-  std::string outcome;
+  RunOutcome outcome = RunOutcome::Finished;
   std::vector<std::string> reason_contains, warnings;
   std::vector<ExpectedMeasure> measures;
 };

@@ -76,6 +76,57 @@ Vec2 body_force(Geometry g, const Vec2& p) {
 constexpr double kG3[3] = {-0.77459666924148337704, 0.0, 0.77459666924148337704};
 constexpr double kW3[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
 
+// Calls f(e, p, xp, w) at each 3 x 3 Gauss point of every element: its
+// shape functions p, position xp and volume weight w.
+template <class F>
+void for_each_gauss_point(const Mesh& mesh, Geometry g, F&& f) {
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    Quad4Coords X;
+    for (int a = 0; a < 4; ++a) X[a] = mesh.x[mesh.quads[e][a]];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const Quad4Point p = quad4_point(X, kG3[i], kG3[j]);
+        Vec2 xp = Vec2::Zero();
+        for (int a = 0; a < 4; ++a) xp += p.N(a) * X[a];
+        f(e, p, xp, volume_weight(p, g, kW3[i] * kW3[j]));
+      }
+  }
+}
+
+// The exact field's body force as nodal forces.
+std::vector<Vec2> nodal_body_forces(const Mesh& mesh, Geometry g) {
+  std::vector<Vec2> fext(mesh.x.size(), Vec2::Zero());
+  for_each_gauss_point(mesh, g, [&](Index e, const Quad4Point& p, const Vec2& xp, double w) {
+    const Vec2 f = body_force(g, xp);
+    for (int a = 0; a < 4; ++a) fext[mesh.quads[e][a]] += w * p.N(a) * f;
+  });
+  return fext;
+}
+
+// The exact velocity prescribed at every boundary node.
+std::vector<NodeConstraint> exact_boundary_velocities(const Mesh& mesh, Geometry g) {
+  std::vector<NodeConstraint> cons;
+  for (Index i : mesh.side_nodes("mms.boundary")) {
+    const Vec2 v = exact(g, mesh.x[i]).v;
+    cons.push_back({i, Vec2(1, 0), v(0)});
+    cons.push_back({i, Vec2(0, 1), v(1)});
+  }
+  return cons;
+}
+
+// ||v_h - v|| / ||v|| in L2 over the mesh.
+double relative_l2_error(const Mesh& mesh, Geometry g, const std::vector<Vec2>& v) {
+  double err2 = 0, ref2 = 0;
+  for_each_gauss_point(mesh, g, [&](Index e, const Quad4Point& p, const Vec2& xp, double w) {
+    Vec2 vh = Vec2::Zero();
+    for (int a = 0; a < 4; ++a) vh += p.N(a) * v[mesh.quads[e][a]];
+    const Vec2 ve = exact(g, xp).v;
+    err2 += w * (vh - ve).squaredNorm();
+    ref2 += w * ve.squaredNorm();
+  });
+  return std::sqrt(err2 / ref2);
+}
+
 }  // namespace
 
 MmsResult run_mms(Geometry g, int n) {
@@ -94,27 +145,8 @@ MmsResult run_mms(Geometry g, int n) {
   view.flow_stress = &flow;
   view.geometry = g;
 
-  // Nodal body forces.
-  std::vector<Vec2> fext(mesh.x.size(), Vec2::Zero());
-  for (Index e = 0; e < mesh.num_elements(); ++e) {
-    Quad4Coords X;
-    for (int a = 0; a < 4; ++a) X[a] = mesh.x[mesh.quads[e][a]];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        const Quad4Point p = quad4_point(X, kG3[i], kG3[j]);
-        Vec2 xp = Vec2::Zero();
-        for (int a = 0; a < 4; ++a) xp += p.N(a) * X[a];
-        const Vec2 f = body_force(g, xp);
-        const double w = volume_weight(p, g, kW3[i] * kW3[j]);
-        for (int a = 0; a < 4; ++a) fext[mesh.quads[e][a]] += w * p.N(a) * f;
-      }
-  }
-  std::vector<NodeConstraint> cons;
-  for (Index i : mesh.side_nodes("mms.boundary")) {
-    const Vec2 v = exact(g, mesh.x[i]).v;
-    cons.push_back({i, Vec2(1, 0), v(0)});
-    cons.push_back({i, Vec2(0, 1), v(1)});
-  }
+  const std::vector<Vec2> fext = nodal_body_forces(mesh, g);
+  const std::vector<NodeConstraint> cons = exact_boundary_velocities(mesh, g);
   NoContact none;
   SolverWorkspace ws(LinearSolverChoice::Auto);
   StepProblem problem(view, strain, mats, 1e-6 * kA, fext, none, ws);
@@ -129,28 +161,10 @@ MmsResult run_mms(Geometry g, int n) {
   std::vector<Vec2> v;
   problem.dofs().expand(u, v);
 
-  double err2 = 0, ref2 = 0;
-  for (Index e = 0; e < mesh.num_elements(); ++e) {
-    Quad4Coords X;
-    for (int a = 0; a < 4; ++a) X[a] = mesh.x[mesh.quads[e][a]];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        const Quad4Point p = quad4_point(X, kG3[i], kG3[j]);
-        Vec2 xp = Vec2::Zero(), vh = Vec2::Zero();
-        for (int a = 0; a < 4; ++a) {
-          xp += p.N(a) * X[a];
-          vh += p.N(a) * v[mesh.quads[e][a]];
-        }
-        const Vec2 ve = exact(g, xp).v;
-        const double w = volume_weight(p, g, kW3[i] * kW3[j]);
-        err2 += w * (vh - ve).squaredNorm();
-        ref2 += w * ve.squaredNorm();
-      }
-  }
   MmsResult r;
   r.n = n;
   r.h = 1.0 / n;
-  r.l2_error = std::sqrt(err2 / ref2);
+  r.l2_error = relative_l2_error(mesh, g, v);
   r.newton_iterations = nr.iterations;
   r.converged = nr.converged;
   return r;

@@ -1,14 +1,24 @@
 #include "suite_checks.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "io/case_file.hpp"
 #include "results.hpp"
 
 namespace rpfem {
+
+namespace {
+
+const NamedValues<CheckMetric> kMetrics{{"load_difference", CheckMetric::LoadDifference},
+                                        {"history_max", CheckMetric::HistoryMax},
+                                        {"finished", CheckMetric::Finished}};
+
+}  // namespace
+
+const std::string& metric_name(CheckMetric metric) { return name_of(kMetrics, metric); }
 
 std::vector<SuiteCheck> read_suite_checks(const std::string& path) {
   CaseFile file(path);
@@ -18,9 +28,9 @@ std::vector<SuiteCheck> read_suite_checks(const std::string& path) {
     c.scene = s.text("scene", std::nullopt);
     c.formulation = s.text("formulation", std::nullopt);
     c.variant = s.text("variant", "");
-    c.metric = s.text("metric", std::nullopt, {"load_difference", "history_max", "finished"});
+    c.metric = s.choice("metric", std::nullopt, kMetrics);
     c.issue = s.text("issue", "");
-    if (c.metric == "load_difference") {
+    if (c.metric == CheckMetric::LoadDifference) {
       c.reference = s.text("reference", std::nullopt);
       c.column = s.text("load", std::nullopt);
       c.reference_scene = s.text("reference_scene", c.scene);
@@ -28,11 +38,11 @@ std::vector<SuiteCheck> read_suite_checks(const std::string& path) {
       c.from = s.real("from", 0.0, Range::nonnegative(), "mm of stroke");
       c.stroke_tolerance = s.real("stroke_tolerance", 0.0, Range::nonnegative(), "mm");
     }
-    if (c.metric == "history_max") {
+    if (c.metric == CheckMetric::HistoryMax) {
       c.column = s.text("column", std::nullopt);
       c.floor = s.text("floor", "");
     }
-    if (c.metric != "finished") c.tolerance = s.real("tolerance", std::nullopt, Range::nonnegative(), "");
+    if (c.metric != CheckMetric::Finished) c.tolerance = s.real("tolerance", std::nullopt, Range::nonnegative(), "");
     out.push_back(c);
   }
   file.finish();
@@ -63,10 +73,10 @@ std::vector<CheckResult> evaluate_suite_checks(const std::string& suite_dir, con
     const std::string dir = run_dir(suite_dir, c.scene, c.formulation, c.variant);
     try {
       if (!std::filesystem::exists(dir + "/history.csv")) throw std::runtime_error("no run in " + dir);
-      if (c.metric == "finished") {
+      if (c.metric == CheckMetric::Finished) {
         r.value = run_finished(dir) ? 1 : 0;
         r.pass = r.value == 1;
-      } else if (c.metric == "history_max") {
+      } else if (c.metric == CheckMetric::HistoryMax) {
         const History h = read_history(dir + "/history.csv");
         const std::vector<double>& v = h.at(c.column);
         r.value = largest(v);

@@ -1,4 +1,4 @@
-// Acceptance checks of the formulation issues as data (verification/
+// The contact formulations' acceptance checks as data (verification/
 // checks.toml), evaluated on a suite folder written by `rpfem suite`
 // (runs in DIR/<scene>/<formulation>[/<variant>]/):
 //   metric = "load_difference": the largest relative difference of the
@@ -19,8 +19,15 @@
 
 namespace rpfem {
 
+// A check's metric, as above.
+enum class CheckMetric { LoadDifference, HistoryMax, Finished };
+// Its name in checks.toml ("load_difference", ...).
+const std::string& metric_name(CheckMetric metric);
+
 struct SuiteCheck {
-  std::string scene, formulation, variant, metric, reference, reference_scene, reference_load, column, floor, issue;
+  std::string scene, formulation, variant;
+  CheckMetric metric = CheckMetric::Finished;
+  std::string reference, reference_scene, reference_load, column, floor, issue;
   double tolerance = 0, from = 0, stroke_tolerance = 0;
 };
 

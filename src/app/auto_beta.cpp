@@ -25,6 +25,65 @@ double largest_penetration(const History& h, const std::string& path) {
   return *std::max_element(p.begin(), p.end());
 }
 
+// --bounds of beta_factor (default 1e-6 to 1e6), checked.
+std::vector<double> beta_bounds(const CalibrateOptions& opt) {
+  const std::vector<double> bounds = opt.bounds.empty() ? std::vector<double>{1e-6, 1e6} : opt.bounds;
+  if (bounds.size() != 2 || !(bounds[0] > 0) || !(bounds[0] < bounds[1]))
+    throw InputError("--bounds: expected LO,HI with 0 < LO < HI (beta_factor, times the default beta)");
+  return bounds;
+}
+
+void print_search_start(const SearchRecord& s, double tol, const std::string& out_dir) {
+  std::printf("rpfem calibrate --auto-beta %g: the smallest %s in [%g, %g] with max %s <= %g, by NLopt %s in "
+              "log10; runs in %s/evals\n",
+              tol, kKey, s.lo, s.hi, kColumn, tol, algorithm_code(s.algorithm).c_str(), out_dir.c_str());
+}
+
+// The smallest evaluated beta_factor whose penetration meets tol (null if none).
+const Evaluation* smallest_meeting(const std::vector<Evaluation>& all, double tol) {
+  const Evaluation* best = nullptr;
+  for (const auto& e : all)
+    if (e.score <= tol && (!best || e.value < best->value)) best = &e;
+  return best;
+}
+
+// No value met the tolerance: recorded and said; exit code 3.
+int no_feasible_value(CalibrationLog& log, const SearchRecord& s, double tol, const toml::table& nlopt_rc) {
+  const std::string why = "no beta_factor in [" + exact_text(s.lo) + ", " + exact_text(s.hi) + "] gave max " +
+                          kColumn + " <= " + exact_text(tol) + " (raise --bounds' upper end)";
+  log.record().insert("reason", why);
+  log.record().insert("result", nlopt_rc);
+  log.write("no feasible value");
+  std::fprintf(stderr, "rpfem calibrate: %s\n", why.c_str());
+  return 3;
+}
+
+// The result against the default beta's run (the time saved), recorded and,
+// unless quiet, printed.
+void report_result(CalibrationLog& log, const CalibrateOptions& opt, double tol, const Evaluation& best,
+                   const Evaluation& reference, const toml::table& nlopt_rc) {
+  const double saved = reference.wall_s - best.wall_s;
+  const double saved_pct = reference.wall_s > 0 ? 100 * saved / reference.wall_s : 0.0;
+  toml::table result{{"beta_factor", best.value},
+                     {kColumn, best.score},
+                     {"evaluation", best.index},
+                     {"wall_time_s", best.wall_s},
+                     {"default_beta_factor", reference.value},
+                     {"default_max_penetration_rel", reference.score},
+                     {"default_wall_time_s", reference.wall_s},
+                     {"time_saved_s", saved},
+                     {"time_saved_percent", saved_pct}};
+  for (auto&& [k, v] : nlopt_rc) result.insert(k, v);
+  log.record().insert("result", result);
+  log.write("finished", best.value);
+  if (!opt.quiet) {
+    std::printf("smallest beta_factor with max %s <= %g: %.6g (penetration %.4e, run %.2f s)\n", kColumn, tol,
+                best.value, best.score, best.wall_s);
+    std::printf("default beta_factor %g: penetration %.4e, run %.2f s; time saved %.2f s (%.1f %%)\n", reference.value,
+                reference.score, reference.wall_s, saved, saved_pct);
+  }
+}
+
 }  // namespace
 
 int auto_beta_command(const CalibrateOptions& opt) {
@@ -33,9 +92,7 @@ int auto_beta_command(const CalibrateOptions& opt) {
   if (!opt.formulation.empty() && opt.formulation != "penalty")
     throw InputError("--auto-beta searches the penalty formulation's beta: expected --formulation penalty or none, "
                      "got '" + opt.formulation + "'");
-  const std::vector<double> bounds = opt.bounds.empty() ? std::vector<double>{1e-6, 1e6} : opt.bounds;
-  if (bounds.size() != 2 || !(bounds[0] > 0) || !(bounds[0] < bounds[1]))
-    throw InputError("--bounds: expected LO,HI with 0 < LO < HI (beta_factor, times the default beta)");
+  const std::vector<double> bounds = beta_bounds(opt);
   const PreparedCase pc = prepare_case(opt.case_file, opt.overrides, "penalty");
   if (used_number(*pc.file, "formulations.penalty.beta"))
     throw InputError(opt.case_file + ": key 'formulations.penalty.beta': --auto-beta searches " + kKey +
@@ -52,10 +109,7 @@ int auto_beta_command(const CalibrateOptions& opt) {
   CachedRuns runs({opt.case_file, "penalty", opt.overrides, kKey, opt.out_dir}, largest_penetration);
 
   fs::create_directories(opt.out_dir);
-  if (!opt.quiet)
-    std::printf("rpfem calibrate --auto-beta %g: the smallest %s in [%g, %g] with max %s <= %g, by NLopt %s in "
-                "log10; runs in %s/evals\n",
-                tol, kKey, s.lo, s.hi, kColumn, tol, algorithm_code(s.algorithm).c_str(), opt.out_dir.c_str());
+  if (!opt.quiet) print_search_start(s, tol, opt.out_dir);
   auto penetration = [&](double factor) {
     bool cached = false;
     const Evaluation e = runs.evaluate(factor, &cached);
@@ -85,39 +139,10 @@ int auto_beta_command(const CalibrateOptions& opt) {
   } catch (const RunFailed& e) {
     return log.stopped(e);
   }
-  const Evaluation* best = nullptr;
-  for (const auto& e : runs.all())
-    if (e.score <= tol && (!best || e.value < best->value)) best = &e;
   const toml::table nlopt_rc{{"nlopt_result", opt_y.result}, {"nlopt_result_name", opt_y.result_name}};
-  if (!best) {
-    const std::string why = "no beta_factor in [" + exact_text(s.lo) + ", " + exact_text(s.hi) + "] gave max " +
-                            kColumn + " <= " + exact_text(tol) + " (raise --bounds' upper end)";
-    log.record().insert("reason", why);
-    log.record().insert("result", nlopt_rc);
-    log.write("no feasible value");
-    std::fprintf(stderr, "rpfem calibrate: %s\n", why.c_str());
-    return 3;
-  }
-  const double saved = reference.wall_s - best->wall_s;
-  const double saved_pct = reference.wall_s > 0 ? 100 * saved / reference.wall_s : 0.0;
-  toml::table result{{"beta_factor", best->value},
-                     {kColumn, best->score},
-                     {"evaluation", best->index},
-                     {"wall_time_s", best->wall_s},
-                     {"default_beta_factor", reference.value},
-                     {"default_max_penetration_rel", reference.score},
-                     {"default_wall_time_s", reference.wall_s},
-                     {"time_saved_s", saved},
-                     {"time_saved_percent", saved_pct}};
-  for (auto&& [k, v] : nlopt_rc) result.insert(k, v);
-  log.record().insert("result", result);
-  log.write("finished", best->value);
-  if (!opt.quiet) {
-    std::printf("smallest beta_factor with max %s <= %g: %.6g (penetration %.4e, run %.2f s)\n", kColumn, tol,
-                best->value, best->score, best->wall_s);
-    std::printf("default beta_factor %g: penetration %.4e, run %.2f s; time saved %.2f s (%.1f %%)\n", reference.value,
-                reference.score, reference.wall_s, saved, saved_pct);
-  }
+  const Evaluation* best = smallest_meeting(runs.all(), tol);
+  if (!best) return no_feasible_value(log, s, tol, nlopt_rc);
+  report_result(log, opt, tol, *best, reference, nlopt_rc);
   log.print_end(opt_y.result, opt_y.result_name);
   return 0;
 }

@@ -67,13 +67,10 @@ double misfit_of(const TargetCurve& target, const Comparison& c, const History& 
   return target_misfit(target, x, y);
 }
 
-int fit_curve(const CalibrateOptions& opt) {
-  if (opt.param.empty()) throw InputError("--target needs --param KEY (the case key to identify)");
-  if (opt.bounds.size() != 2 || !(opt.bounds[0] < opt.bounds[1]))
-    throw InputError("--bounds: expected LO,HI with LO < HI (the range of " + opt.param + ")");
-  const double lo = opt.bounds[0], hi = opt.bounds[1];
-  const TargetCurve target = read_target_curve(opt.target);
-  const PreparedCase pc = prepare_case(opt.case_file, opt.overrides, opt.formulation);
+// The search's start: --x0, else the case's current value of --param if
+// within --bounds, else their middle. The case must use the key as a
+// number and accept both bounds (checked before any run).
+double start_value(const CalibrateOptions& opt, const PreparedCase& pc, double lo, double hi) {
   const auto current = used_number(*pc.file, opt.param);
   if (!current)
     throw InputError(opt.case_file + ": --param '" + opt.param +
@@ -90,14 +87,59 @@ int fit_curve(const CalibrateOptions& opt) {
   }
   const double x0 = opt.x0.value_or(*current >= lo && *current <= hi ? *current : (lo + hi) / 2);
   if (x0 < lo || x0 > hi) throw InputError("--x0 " + exact_text(x0) + ": expected a value within --bounds");
-  const Comparison cmp = comparison_for(target, opt, pc);
+  return x0;
+}
+
+// The case's stroke must reach the target's last point.
+void require_reach(const TargetCurve& target, const Comparison& cmp, const PreparedCase& pc) {
   const double end_stroke = pc.scene->stepping.end_stroke;
-  const bool ring = target.kind == TargetKind::Ring;
   require_within(target, end_stroke * cmp.x_per_mm,
                  "the case's stepping.end_stroke = " + exact_text(end_stroke) + " mm" +
-                     (ring ? " (" + exact_text(end_stroke * cmp.x_per_mm) + " % of the height " +
-                                 exact_text(cmp.height) + " mm)"
-                           : ""));
+                     (target.kind == TargetKind::Ring ? " (" + exact_text(end_stroke * cmp.x_per_mm) +
+                                                            " % of the height " + exact_text(cmp.height) + " mm)"
+                                                      : ""));
+}
+
+void print_fit_start(const CalibrateOptions& opt, const SearchRecord& s, const TargetCurve& target,
+                     const Comparison& cmp, const std::string& unit) {
+  const bool ring = target.kind == TargetKind::Ring;
+  std::printf("rpfem calibrate: %s in [%g, %g] from %g by NLopt %s; target %s (%s, %zu points) against %s%s; "
+              "misfit: RMS (%s); runs in %s/evals\n",
+              opt.param.c_str(), s.lo, s.hi, s.x0, algorithm_code(s.algorithm).c_str(), opt.target.c_str(),
+              ring ? "ring table" : "load-stroke table", target.x.size(), cmp.column.c_str(),
+              cmp.magnitude_kN ? " (|N| / 1000)" : "", unit.c_str(), opt.out_dir.c_str());
+}
+
+void print_evaluation(const std::string& param, double x, const Evaluation& e, bool cached) {
+  if (cached) std::printf("  (cached) %s = %-12.6g misfit %.4e\n", param.c_str(), x, e.score);
+  else
+    std::printf("  eval %3d: %s = %-12.6g misfit %.4e  run %.2f s  %s\n", e.index, param.c_str(), x, e.score,
+                e.wall_s, e.dir.c_str());
+  std::fflush(stdout);
+}
+
+// What calibration.json says of the target and the objective.
+void record_target(CalibrationLog& log, const CalibrateOptions& opt, const TargetCurve& target, const Comparison& cmp) {
+  const bool ring = target.kind == TargetKind::Ring;
+  toml::table tgt{{"file", fs::absolute(opt.target).string()}, {"kind", ring ? "ring" : "load_stroke"},
+                  {"points", static_cast<int64_t>(target.x.size())}, {"column", cmp.column}};
+  if (ring) tgt.insert("height_mm", cmp.height);
+  log.record().insert("target", tgt);
+  log.record().insert("misfit_definition", misfit_definition(target.kind));
+  log.record().insert("objective", "the misfit squared (the mean square: same minimizer, smooth at a perfect fit)");
+}
+
+int fit_curve(const CalibrateOptions& opt) {
+  if (opt.param.empty()) throw InputError("--target needs --param KEY (the case key to identify)");
+  if (opt.bounds.size() != 2 || !(opt.bounds[0] < opt.bounds[1]))
+    throw InputError("--bounds: expected LO,HI with LO < HI (the range of " + opt.param + ")");
+  const double lo = opt.bounds[0], hi = opt.bounds[1];
+  const TargetCurve target = read_target_curve(opt.target);
+  const PreparedCase pc = prepare_case(opt.case_file, opt.overrides, opt.formulation);
+  const double x0 = start_value(opt, pc, lo, hi);
+  const Comparison cmp = comparison_for(target, opt, pc);
+  require_reach(target, cmp, pc);
+  const bool ring = target.kind == TargetKind::Ring;
 
   SearchRecord s;
   s.mode = "fit", s.case_name = pc.scene->name, s.formulation = pc.contact->info().enforcement, s.key = opt.param;
@@ -113,32 +155,16 @@ int fit_curve(const CalibrateOptions& opt) {
   const std::string unit = ring ? "percentage points" : "relative";
 
   fs::create_directories(opt.out_dir);
-  if (!opt.quiet)
-    std::printf("rpfem calibrate: %s in [%g, %g] from %g by NLopt %s; target %s (%s, %zu points) against %s%s; "
-                "misfit: RMS (%s); runs in %s/evals\n",
-                opt.param.c_str(), lo, hi, x0, algorithm_code(s.algorithm).c_str(), opt.target.c_str(),
-                ring ? "ring table" : "load-stroke table", target.x.size(), cmp.column.c_str(),
-                cmp.magnitude_kN ? " (|N| / 1000)" : "", unit.c_str(), opt.out_dir.c_str());
+  if (!opt.quiet) print_fit_start(opt, s, target, cmp, unit);
   auto misfit = [&](double x) {
     bool cached = false;
     const Evaluation e = runs.evaluate(x, &cached);
-    if (!opt.quiet) {
-      if (cached) std::printf("  (cached) %s = %-12.6g misfit %.4e\n", opt.param.c_str(), x, e.score);
-      else
-        std::printf("  eval %3d: %s = %-12.6g misfit %.4e  run %.2f s  %s\n", e.index, opt.param.c_str(), x,
-                    e.score, e.wall_s, e.dir.c_str());
-      std::fflush(stdout);
-    }
+    if (!opt.quiet) print_evaluation(opt.param, x, e, cached);
     return e.score;
   };
 
   CalibrationLog log(opt, s, runs, "misfit");
-  toml::table tgt{{"file", fs::absolute(opt.target).string()}, {"kind", ring ? "ring" : "load_stroke"},
-                  {"points", static_cast<int64_t>(target.x.size())}, {"column", cmp.column}};
-  if (ring) tgt.insert("height_mm", cmp.height);
-  log.record().insert("target", tgt);
-  log.record().insert("misfit_definition", misfit_definition(target.kind));
-  log.record().insert("objective", "the misfit squared (the mean square: same minimizer, smooth at a perfect fit)");
+  record_target(log, opt, target, cmp);
 
   Optimum best;
   Evaluation at;

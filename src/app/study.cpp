@@ -17,11 +17,82 @@ std::vector<std::string> optional_texts(CaseSection& s, const std::string& key, 
   return s.has(key) ? s.text_array(key, what) : std::vector<std::string>{};
 }
 
+const NamedValues<StudyReference> kReferences{{"none", StudyReference::None},
+                                              {"formulation", StudyReference::Formulation},
+                                              {"richardson", StudyReference::Richardson}};
+const NamedValues<LoadMeasure> kMeasures{{"final", LoadMeasure::Final}, {"mean", LoadMeasure::Mean}};
+
 void check_formulation(const CaseSection& s, const std::string& key, const std::string& name) {
   if (!find_formulation(name)) s.fail(key, "a formulation (" + formulation_names() + "), got '" + name + "'");
 }
 
+bool has_axis(const Study& st, const std::string& key) {
+  return std::any_of(st.axes.begin(), st.axes.end(), [&](const StudyAxis& a) { return a.key == key; });
+}
+
+// [study] case: a scene of the cases folder, or a file next to the study.
+std::string read_case_path(CaseSection& s, const std::string& path, const std::string& cases_dir) {
+  const std::string c = s.text("case", std::nullopt);
+  const std::string file = c.size() > 5 && c.substr(c.size() - 5) == ".toml"
+                               ? (fs::path(path).parent_path() / c).lexically_normal().string()
+                               : cases_dir + "/" + c + ".toml";
+  if (!fs::is_regular_file(file)) s.fail("case", "a scene of " + cases_dir + " or a case file, got '" + c + "'");
+  return file;
+}
+
+// One [[study.axis]]: its key and values (the quick ones under quick).
+StudyAxis read_axis(CaseSection& a, bool quick) {
+  StudyAxis ax;
+  ax.key = a.text("key", std::nullopt);
+  const bool has_quick = a.has("quick");
+  if (ax.formulation()) {
+    auto v = a.text_array("values", "formulation names");
+    const auto q = has_quick ? a.text_array("quick", "formulation names under --quick") : v;
+    ax.values = quick ? q : v;
+    for (const auto& f : ax.values) check_formulation(a, "values", f);
+  } else {
+    auto v = a.real_array("values", -1, "the values of " + ax.key);
+    const auto q = has_quick ? a.real_array("quick", -1, "the values of " + ax.key + " under --quick") : v;
+    ax.numbers = quick ? q : v;
+    for (double x : ax.numbers) ax.values.push_back(exact_text(x));
+  }
+  return ax;
+}
+
+// [study.reference], after the axes (Richardson's axis is one of them).
+void read_reference(CaseSection r, Study& st) {
+  st.reference = r.choice("kind", std::string("none"), kReferences);
+  st.from = r.real("from", 0.0, Range::nonnegative(), "mm");
+  if (st.reference == StudyReference::Formulation) {
+    st.reference_formulation = r.text("formulation", std::nullopt);
+    check_formulation(r, "formulation", st.reference_formulation);
+    st.reference_set = optional_texts(r, "set", "overrides of the reference run");
+  } else if (st.reference == StudyReference::Richardson) {
+    st.richardson_axis = r.text("axis", std::nullopt);
+    if (!has_axis(st, st.richardson_axis)) r.fail("axis", "the key of one of the study's axes");
+    st.measure = r.choice("measure", std::string("final"), kMeasures);
+    st.reference_formulation = r.text("formulation", std::string());
+    if (!st.reference_formulation.empty()) {
+      const auto f = std::find_if(st.axes.begin(), st.axes.end(), [](const StudyAxis& a) { return a.formulation(); });
+      if (f == st.axes.end() || std::count(f->values.begin(), f->values.end(), st.reference_formulation) == 0)
+        r.fail("formulation",
+               "one of the values of the study's formulation axis, got '" + st.reference_formulation + "'");
+    }
+  }
+}
+
+// [study.window]: the axis whose usable range is reported, and the limits.
+void read_window(CaseSection& w, Study& st) {
+  st.window_axis = w.text("axis", std::nullopt);
+  if (!has_axis(st, st.window_axis)) w.fail("axis", "the key of one of the study's axes");
+  st.window_penetration = w.real("max_penetration_rel", 1e-3, Range::positive());
+  st.window_iterations = w.real("max_iterations", 10.0, Range::positive());
+}
+
 }  // namespace
+
+const std::string& reference_name(StudyReference kind) { return name_of(kReferences, kind); }
+const std::string& measure_name(LoadMeasure measure) { return name_of(kMeasures, measure); }
 
 Study read_study(const std::string& path, const std::string& cases_dir, bool quick) {
   CaseFile file(path);
@@ -31,11 +102,7 @@ Study read_study(const std::string& path, const std::string& cases_dir, bool qui
   st.file = path;
   st.name = s.text("name", fs::path(path).stem().string());
   st.description = s.text("description", std::string());
-  const std::string c = s.text("case", std::nullopt);
-  st.case_file = c.size() > 5 && c.substr(c.size() - 5) == ".toml"
-                     ? (fs::path(path).parent_path() / c).lexically_normal().string()
-                     : cases_dir + "/" + c + ".toml";
-  if (!fs::is_regular_file(st.case_file)) s.fail("case", "a scene of " + cases_dir + " or a case file, got '" + c + "'");
+  st.case_file = read_case_path(s, path, cases_dir);
   st.formulation = s.text("formulation", std::string());
   if (!st.formulation.empty()) check_formulation(s, "formulation", st.formulation);
   st.load = s.text("load", std::nullopt);
@@ -44,51 +111,9 @@ Study read_study(const std::string& path, const std::string& cases_dir, bool qui
   if (quick) st.set.insert(st.set.end(), quick_set.begin(), quick_set.end());
   auto axes = s.table_array("axis");
   if (axes.empty()) s.fail("axis", "at least one [[study.axis]] table");
-  for (auto& a : axes) {
-    StudyAxis ax;
-    ax.key = a.text("key", std::nullopt);
-    const bool has_quick = a.has("quick");
-    if (ax.formulation()) {
-      auto v = a.text_array("values", "formulation names");
-      const auto q = has_quick ? a.text_array("quick", "formulation names under --quick") : v;
-      ax.values = quick ? q : v;
-      for (const auto& f : ax.values) check_formulation(a, "values", f);
-    } else {
-      auto v = a.real_array("values", -1, "the values of " + ax.key);
-      const auto q = has_quick ? a.real_array("quick", -1, "the values of " + ax.key + " under --quick") : v;
-      ax.numbers = quick ? q : v;
-      for (double x : ax.numbers) ax.values.push_back(exact_text(x));
-    }
-    st.axes.push_back(ax);
-  }
-  auto has_axis = [&](const std::string& key) {
-    return std::any_of(st.axes.begin(), st.axes.end(), [&](const StudyAxis& a) { return a.key == key; });
-  };
-  CaseSection r = s.section("reference");
-  st.reference = r.text("kind", std::string("none"), {"none", "formulation", "richardson"});
-  st.from = r.real("from", 0.0, Range::nonnegative(), "mm");
-  if (st.reference == "formulation") {
-    st.reference_formulation = r.text("formulation", std::nullopt);
-    check_formulation(r, "formulation", st.reference_formulation);
-    st.reference_set = optional_texts(r, "set", "overrides of the reference run");
-  } else if (st.reference == "richardson") {
-    st.richardson_axis = r.text("axis", std::nullopt);
-    if (!has_axis(st.richardson_axis)) r.fail("axis", "the key of one of the study's axes");
-    st.measure = r.text("measure", std::string("final"), {"final", "mean"});
-    st.reference_formulation = r.text("formulation", std::string());
-    if (!st.reference_formulation.empty()) {
-      const auto f = std::find_if(st.axes.begin(), st.axes.end(), [](const StudyAxis& a) { return a.formulation(); });
-      if (f == st.axes.end() || std::count(f->values.begin(), f->values.end(), st.reference_formulation) == 0)
-        r.fail("formulation",
-               "one of the values of the study's formulation axis, got '" + st.reference_formulation + "'");
-    }
-  }
-  if (auto w = s.table("window")) {
-    st.window_axis = w->text("axis", std::nullopt);
-    if (!has_axis(st.window_axis)) w->fail("axis", "the key of one of the study's axes");
-    st.window_penetration = w->real("max_penetration_rel", 1e-3, Range::positive());
-    st.window_iterations = w->real("max_iterations", 10.0, Range::positive());
-  }
+  for (auto& a : axes) st.axes.push_back(read_axis(a, quick));
+  read_reference(s.section("reference"), st);
+  if (auto w = s.table("window")) read_window(*w, st);
   file.finish();
   return st;
 }

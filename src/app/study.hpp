@@ -44,12 +44,22 @@ struct StudyAxis {
   bool formulation() const { return key == "formulation"; }
 };
 
+// [study.reference] kind: what the load error is measured against.
+enum class StudyReference { None, Formulation, Richardson };
+// [study.reference] measure: the load Richardson compares.
+enum class LoadMeasure { Final, Mean };
+
+// Their names as a study file writes them ("none", "final", ...).
+const std::string& reference_name(StudyReference kind);
+const std::string& measure_name(LoadMeasure measure);
+
 struct Study {
   std::string file, name, description, case_file, formulation, load;
   std::vector<std::string> set;
   std::vector<StudyAxis> axes;
-  std::string reference = "none", reference_formulation, richardson_axis;
-  std::string measure = "final";  // Richardson's load: "final" or "mean"
+  StudyReference reference = StudyReference::None;
+  std::string reference_formulation, richardson_axis;
+  LoadMeasure measure = LoadMeasure::Final;
   std::vector<std::string> reference_set;
   double from = 0;
   std::string window_axis;
@@ -57,7 +67,7 @@ struct Study {
 };
 
 // The study runs one more run, its reference formulation's.
-inline bool has_reference_run(const Study& st) { return st.reference == "formulation"; }
+inline bool has_reference_run(const Study& st) { return st.reference == StudyReference::Formulation; }
 
 // Reads and validates a study; InputError naming the file and key. Under
 // quick the axes hold their quick values and quick_set is appended to set.

@@ -135,6 +135,187 @@ struct RichardsonGroup {
   Richardson r;
 };
 
+// Per grid run: the history's metrics and the summary's status and timing,
+// the load error against the reference run if there is one.
+std::vector<Outcome> outcomes(const SweepPlan& plan) {
+  const Study& st = plan.study;
+  const History ref = has_reference_run(st) ? history_or_empty(plan.runs.back().dir) : History{};
+  std::vector<Outcome> out(plan.index.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = outcome(plan.runs[i], st, ref);
+  return out;
+}
+
+// Richardson: along the size axis, per combination of the other axes;
+// with a reference formulation, that formulation's estimate serves the
+// runs of every formulation at the same other values. Sets each finished
+// run's load_error_final against its group's estimate.
+std::vector<RichardsonGroup> richardson_groups(const SweepPlan& plan, std::vector<Outcome>& out) {
+  const Study& st = plan.study;
+  const std::vector<PoolRun>& runs = plan.runs;
+  const std::size_t n = out.size();
+  std::vector<RichardsonGroup> rich;
+  const std::size_t ax = axis_index(st, st.richardson_axis);
+  const bool common = !st.reference_formulation.empty();
+  const std::size_t fax = common ? axis_index(st, "formulation") : st.axes.size();
+  auto group_of = [&](std::size_t i) {
+    auto key = plan.index[i];
+    key[ax] = 0;
+    if (common) key[fax] = 0;
+    return key;
+  };
+  auto compared = [&](std::size_t i) {
+    return st.measure == LoadMeasure::Mean ? out[i].mean_load : out[i].m.final_load;
+  };
+  std::map<std::vector<std::size_t>, std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < n; ++i)
+    if (out[i].finished && (!common || runs[i].formulation == st.reference_formulation))
+      groups[group_of(i)].push_back(i);
+  for (const auto& [key, members] : groups) {
+    std::vector<double> hs, fs;
+    for (std::size_t i : members) {
+      hs.push_back(size_of(st.richardson_axis, st.axes[ax].numbers[plan.index[i][ax]]));
+      fs.push_back(compared(i));
+    }
+    // label: the other axes, if any
+    RichardsonGroup g{common ? "formulation=" + st.reference_formulation : "", richardson(hs, fs)};
+    for (std::size_t a = 0; a < st.axes.size(); ++a)
+      if (a != ax && a != fax)
+        g.label += (g.label.empty() ? "" : " ") + st.axes[a].key + "=" + st.axes[a].values[key[a]];
+    if (g.label.empty()) g.label = "(all runs)";
+    if (g.r.ok)
+      for (std::size_t i = 0; i < n; ++i)
+        if (out[i].finished && group_of(i) == key) out[i].err.final = std::abs(compared(i) / g.r.extrapolated - 1);
+    rich.push_back(g);
+  }
+  return rich;
+}
+
+// The table: a row per grid run, its axis values and measured outcome.
+Table sweep_table(const SweepPlan& plan, const std::vector<Outcome>& out) {
+  const Study& st = plan.study;
+  const std::vector<PoolRun>& runs = plan.runs;
+  Table t;
+  t.columns = {"run", "dir", "formulation"};
+  for (const auto& a : st.axes)
+    if (!a.formulation()) t.columns.push_back(a.key);
+  for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "mean_load_kN",
+                        "penetration_rel", "load_error", "load_error_final", "volume_error", "iterations_mean",
+                        "iterations_median", "iterations_max", "iterations_per_solve_median", "rcond", "wall_time_s", "time_per_step_s", "reason"})
+    t.columns.push_back(c);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Outcome& o = out[i];
+    std::map<std::string, double> n{{"run", double(i)},
+                                    {"exit_code", double(runs[i].rc)},
+                                    {"finished", o.finished ? 1.0 : 0.0},
+                                    {"steps", double(o.m.steps)},
+                                    {"final_stroke_mm", o.m.final_stroke},
+                                    {"final_load_kN", o.m.final_load},
+                                    {"mean_load_kN", o.mean_load},
+                                    {"penetration_rel", o.m.penetration},
+                                    {"load_error", o.err.largest},
+                                    {"load_error_final", o.err.final},
+                                    {"volume_error", o.m.volume_error},
+                                    {"iterations_mean", o.m.iterations_mean},
+                                    {"iterations_median", o.m.iterations_median},
+                                    {"iterations_max", o.m.iterations_max},
+                                    {"iterations_per_solve_median", o.m.iterations_per_solve_median},
+                                    {"rcond", o.m.rcond},
+                                    {"wall_time_s", runs[i].seconds},
+                                    {"time_per_step_s", o.per_step}};
+    for (std::size_t a = 0; a < st.axes.size(); ++a)
+      if (!st.axes[a].formulation()) n[st.axes[a].key] = st.axes[a].numbers[plan.index[i][a]];
+    t.add_row(n, {{"dir", fs::relative(runs[i].dir, plan.options.out_dir).string()}, {"formulation", o.formulation},
+                  {"reason", o.reason}});
+  }
+  return t;
+}
+
+// The usable window of one axis: the values whose runs finished within
+// the penetration and iteration limits (none without a window axis).
+std::vector<double> usable_values(const SweepPlan& plan, const std::vector<Outcome>& out) {
+  const Study& st = plan.study;
+  std::vector<double> usable;
+  if (st.window_axis.empty()) return usable;
+  const std::size_t ax = axis_index(st, st.window_axis);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (out[i].finished && out[i].m.penetration >= 0 && out[i].m.penetration <= st.window_penetration &&
+        out[i].m.iterations_median <= st.window_iterations)
+      usable.push_back(st.axes[ax].numbers[plan.index[i][ax]]);
+  return usable;
+}
+
+// sweep.json: the study, every run's overrides, Richardson's estimates,
+// the usable window, version and timings.
+toml::table sweep_record(const SweepPlan& plan, const std::vector<RichardsonGroup>& rich,
+                         const std::vector<double>& usable) {
+  const Study& st = plan.study;
+  const SweepOptions& opt = plan.options;
+  const std::vector<PoolRun>& runs = plan.runs;
+  double runs_time = 0;  // s, the runs' own wall times (the reference's included)
+  for (const auto& r : runs) runs_time += r.seconds;
+  toml::array axes, run_list, rich_list;
+  for (const auto& a : st.axes) axes.push_back(toml::table{{"key", a.key}, {"values", to_array(a.values)}});
+  for (std::size_t i = 0; i < plan.index.size(); ++i)
+    run_list.push_back(toml::table{{"dir", fs::relative(runs[i].dir, opt.out_dir).string()},
+                                   {"formulation", runs[i].formulation}, {"overrides", to_array(runs[i].overrides)}});
+  for (const auto& g : rich)
+    rich_list.push_back(toml::table{{"group", g.label}, {"ok", g.r.ok}, {"observed_order", g.r.ok ? g.r.order : -1.0},
+                                    {"extrapolated_load_kN", g.r.ok ? g.r.extrapolated : -1.0},
+                                    {"ratio", g.r.ratio}, {"note", g.r.note}});
+  toml::table meta{{"study", st.name},
+                   {"study_file", fs::absolute(st.file).string()},
+                   {"description", st.description},
+                   {"case_file", fs::absolute(st.case_file).string()},
+                   {"formulation", st.formulation},
+                   {"load", st.load},
+                   {"quick", opt.quick},
+                   {"set", to_array(st.set)},
+                   {"command_line_set", to_array(opt.overrides)},
+                   {"axes", axes},
+                   {"reference", toml::table{{"kind", reference_name(st.reference)},
+                                             {"formulation", st.reference_formulation},
+                                             {"axis", st.richardson_axis}, {"from_mm", st.from},
+                                             {"measure", measure_name(st.measure)}}},
+                   {"runs", run_list},
+                   {"version", kVersion},
+                   {"wall_time_s", seconds_since(plan.start)},
+                   {"runs_time_s", runs_time}};
+  if (!rich.empty()) meta.insert("richardson", rich_list);
+  if (!st.window_axis.empty()) {
+    toml::table w{{"axis", st.window_axis}, {"max_penetration_rel", st.window_penetration},
+                  {"max_iterations", st.window_iterations}, {"usable", to_array(usable)}};
+    if (!usable.empty()) {
+      const auto [lo, hi] = std::minmax_element(usable.begin(), usable.end());
+      w.insert("from", *lo), w.insert("to", *hi);
+      if (*lo > 0) w.insert("decades", std::log10(*hi / *lo));
+    }
+    meta.insert("window", w);
+  }
+  return meta;
+}
+
+// The summary lines: runs and stops, Richardson's estimates, the window.
+void print_sweep(const SweepPlan& plan, long stopped, const std::vector<RichardsonGroup>& rich,
+                 const std::vector<double>& usable) {
+  const Study& st = plan.study;
+  std::printf("%s: %zu runs, %ld stopped; table %s/sweep.csv\n", st.name.c_str(), plan.index.size(), stopped,
+              plan.options.out_dir.c_str());
+  for (const auto& g : rich) {
+    if (g.r.ok)
+      std::printf("  Richardson %s: observed order %.3f, extrapolated %s load %.6g kN\n", g.label.c_str(), g.r.order,
+                  measure_name(st.measure).c_str(), g.r.extrapolated);
+    else
+      std::printf("  Richardson %s: %s\n", g.label.c_str(), g.r.note.c_str());
+  }
+  if (!st.window_axis.empty() && usable.empty())
+    std::printf("  usable %s: none of the values\n", st.window_axis.c_str());
+  if (!usable.empty()) {
+    const auto [lo, hi] = std::minmax_element(usable.begin(), usable.end());
+    std::printf("  usable %s: %g to %g (%.1f decades)\n", st.window_axis.c_str(), *lo, *hi,
+                *lo > 0 ? std::log10(*hi / *lo) : 0.0);
+  }
+}
+
 }  // namespace
 
 SweepPlan plan_sweep(const SweepOptions& opt) {
@@ -167,162 +348,21 @@ int sweep_command(const SweepOptions& opt) {
 }
 
 int write_sweep(const SweepPlan& plan) {
-  const Study& st = plan.study;
   const SweepOptions& opt = plan.options;
-  const std::vector<PoolRun>& runs = plan.runs;
-  const std::size_t n = plan.index.size();  // grid runs
   fs::create_directories(opt.out_dir);
-
-  // Per run: the history's metrics and the summary's status and timing.
-  const History ref = has_reference_run(st) ? history_or_empty(runs.back().dir) : History{};
-  std::vector<Outcome> out(n);
-  for (std::size_t i = 0; i < n; ++i) out[i] = outcome(runs[i], st, ref);
-
-  // Richardson: along the size axis, per combination of the other axes;
-  // with a reference formulation, that formulation's estimate serves the
-  // runs of every formulation at the same other values.
+  std::vector<Outcome> out = outcomes(plan);
   std::vector<RichardsonGroup> rich;
-  if (st.reference == "richardson") {
-    const std::size_t ax = axis_index(st, st.richardson_axis);
-    const bool common = !st.reference_formulation.empty();
-    const std::size_t fax = common ? axis_index(st, "formulation") : st.axes.size();
-    auto group_of = [&](std::size_t i) {
-      auto key = plan.index[i];
-      key[ax] = 0;
-      if (common) key[fax] = 0;
-      return key;
-    };
-    auto compared = [&](std::size_t i) { return st.measure == "mean" ? out[i].mean_load : out[i].m.final_load; };
-    std::map<std::vector<std::size_t>, std::vector<std::size_t>> groups;
-    for (std::size_t i = 0; i < n; ++i)
-      if (out[i].finished && (!common || runs[i].formulation == st.reference_formulation))
-        groups[group_of(i)].push_back(i);
-    for (const auto& [key, members] : groups) {
-      std::vector<double> hs, fs;
-      for (std::size_t i : members) {
-        hs.push_back(size_of(st.richardson_axis, st.axes[ax].numbers[plan.index[i][ax]]));
-        fs.push_back(compared(i));
-      }
-      // label: the other axes, if any
-      RichardsonGroup g{common ? "formulation=" + st.reference_formulation : "", richardson(hs, fs)};
-      for (std::size_t a = 0; a < st.axes.size(); ++a)
-        if (a != ax && a != fax)
-          g.label += (g.label.empty() ? "" : " ") + st.axes[a].key + "=" + st.axes[a].values[key[a]];
-      if (g.label.empty()) g.label = "(all runs)";
-      if (g.r.ok)
-        for (std::size_t i = 0; i < n; ++i)
-          if (out[i].finished && group_of(i) == key) out[i].err.final = std::abs(compared(i) / g.r.extrapolated - 1);
-      rich.push_back(g);
-    }
-  }
-
-  // The table.
-  Table t;
-  t.columns = {"run", "dir", "formulation"};
-  for (const auto& a : st.axes)
-    if (!a.formulation()) t.columns.push_back(a.key);
-  for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "mean_load_kN",
-                        "penetration_rel", "load_error", "load_error_final", "volume_error", "iterations_mean",
-                        "iterations_median", "iterations_max", "iterations_per_solve_median", "rcond", "wall_time_s", "time_per_step_s", "reason"})
-    t.columns.push_back(c);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Outcome& o = out[i];
-    std::map<std::string, double> n{{"run", double(i)},
-                                    {"exit_code", double(runs[i].rc)},
-                                    {"finished", o.finished ? 1.0 : 0.0},
-                                    {"steps", double(o.m.steps)},
-                                    {"final_stroke_mm", o.m.final_stroke},
-                                    {"final_load_kN", o.m.final_load},
-                                    {"mean_load_kN", o.mean_load},
-                                    {"penetration_rel", o.m.penetration},
-                                    {"load_error", o.err.largest},
-                                    {"load_error_final", o.err.final},
-                                    {"volume_error", o.m.volume_error},
-                                    {"iterations_mean", o.m.iterations_mean},
-                                    {"iterations_median", o.m.iterations_median},
-                                    {"iterations_max", o.m.iterations_max},
-                                    {"iterations_per_solve_median", o.m.iterations_per_solve_median},
-                                    {"rcond", o.m.rcond},
-                                    {"wall_time_s", runs[i].seconds},
-                                    {"time_per_step_s", o.per_step}};
-    for (std::size_t a = 0; a < st.axes.size(); ++a)
-      if (!st.axes[a].formulation()) n[st.axes[a].key] = st.axes[a].numbers[plan.index[i][a]];
-    t.add_row(n, {{"dir", fs::relative(runs[i].dir, opt.out_dir).string()}, {"formulation", o.formulation},
-                  {"reason", o.reason}});
-  }
-
-  // The usable window of one axis: the values whose runs finished within
-  // the penetration and iteration limits.
-  std::vector<double> usable;
-  if (!st.window_axis.empty()) {
-    const std::size_t ax = axis_index(st, st.window_axis);
-    for (std::size_t i = 0; i < n; ++i)
-      if (out[i].finished && out[i].m.penetration >= 0 && out[i].m.penetration <= st.window_penetration &&
-          out[i].m.iterations_median <= st.window_iterations)
-        usable.push_back(st.axes[ax].numbers[plan.index[i][ax]]);
-  }
-  const auto [lo, hi] = std::minmax_element(usable.begin(), usable.end());
-
-  double runs_time = 0;  // s, the runs' own wall times (the reference's included)
-  for (const auto& r : runs) runs_time += r.seconds;
-  toml::array axes, run_list, rich_list;
-  for (const auto& a : st.axes) axes.push_back(toml::table{{"key", a.key}, {"values", to_array(a.values)}});
-  for (std::size_t i = 0; i < n; ++i)
-    run_list.push_back(toml::table{{"dir", fs::relative(runs[i].dir, opt.out_dir).string()},
-                                   {"formulation", runs[i].formulation}, {"overrides", to_array(runs[i].overrides)}});
-  for (const auto& g : rich)
-    rich_list.push_back(toml::table{{"group", g.label}, {"ok", g.r.ok}, {"observed_order", g.r.ok ? g.r.order : -1.0},
-                                    {"extrapolated_load_kN", g.r.ok ? g.r.extrapolated : -1.0},
-                                    {"ratio", g.r.ratio}, {"note", g.r.note}});
-  toml::table meta{{"study", st.name},
-                   {"study_file", fs::absolute(st.file).string()},
-                   {"description", st.description},
-                   {"case_file", fs::absolute(st.case_file).string()},
-                   {"formulation", st.formulation},
-                   {"load", st.load},
-                   {"quick", opt.quick},
-                   {"set", to_array(st.set)},
-                   {"command_line_set", to_array(opt.overrides)},
-                   {"axes", axes},
-                   {"reference", toml::table{{"kind", st.reference}, {"formulation", st.reference_formulation},
-                                             {"axis", st.richardson_axis}, {"from_mm", st.from},
-                                             {"measure", st.measure}}},
-                   {"runs", run_list},
-                   {"version", kVersion},
-                   {"wall_time_s", seconds_since(plan.start)},
-                   {"runs_time_s", runs_time}};
-  if (!rich.empty()) meta.insert("richardson", rich_list);
-  if (!st.window_axis.empty()) {
-    toml::table w{{"axis", st.window_axis}, {"max_penetration_rel", st.window_penetration},
-                  {"max_iterations", st.window_iterations}, {"usable", to_array(usable)}};
-    if (!usable.empty()) {
-      w.insert("from", *lo), w.insert("to", *hi);
-      if (*lo > 0) w.insert("decades", std::log10(*hi / *lo));
-    }
-    meta.insert("window", w);
-  }
+  if (plan.study.reference == StudyReference::Richardson) rich = richardson_groups(plan, out);
+  const Table t = sweep_table(plan, out);
+  const std::vector<double> usable = usable_values(plan, out);
   std::ostringstream js;
-  js << toml::json_formatter{meta} << "\n";
+  js << toml::json_formatter{sweep_record(plan, rich, usable)} << "\n";
   write_table_csv(opt.out_dir + "/sweep.csv", t);
   write_table_h5(opt.out_dir + "/sweep.h5", t, js.str());
   write_text_atomically(opt.out_dir + "/sweep.json", js.str());
 
   const auto stopped = std::count_if(out.begin(), out.end(), [](const Outcome& o) { return !o.finished; });
-  if (!opt.quiet) {
-    std::printf("%s: %zu runs, %ld stopped; table %s/sweep.csv\n", st.name.c_str(), n,
-                static_cast<long>(stopped), opt.out_dir.c_str());
-    for (const auto& g : rich) {
-      if (g.r.ok)
-        std::printf("  Richardson %s: observed order %.3f, extrapolated %s load %.6g kN\n", g.label.c_str(), g.r.order,
-                    st.measure.c_str(), g.r.extrapolated);
-      else
-        std::printf("  Richardson %s: %s\n", g.label.c_str(), g.r.note.c_str());
-    }
-    if (!st.window_axis.empty() && usable.empty()) std::printf("  usable %s: none of the values\n", st.window_axis.c_str());
-    if (!usable.empty())
-      std::printf("  usable %s: %g to %g (%.1f decades)\n", st.window_axis.c_str(), *lo, *hi,
-                  *lo > 0 ? std::log10(*hi / *lo) : 0.0);
-  }
+  if (!opt.quiet) print_sweep(plan, static_cast<long>(stopped), rich, usable);
   return static_cast<int>(stopped);
 }
 

@@ -30,11 +30,11 @@ int verify_command(const std::string& suite_dir, const std::string& checks_file,
     std::printf("%-36s %-8s %-34s %10s %10s  %s\n", "scene", "formul.", "metric", "value", "tolerance", "result");
   for (const auto& r : results) {
     const SuiteCheck& c = r.check;
-    std::string metric = c.metric;
-    if (c.metric == "load_difference")
+    std::string metric = metric_name(c.metric);
+    if (c.metric == CheckMetric::LoadDifference)
       metric += " vs " + (c.reference_scene == c.scene ? "" : c.reference_scene + " ") + c.reference + " (" + c.column +
                 ")";
-    if (c.metric == "history_max") metric += " " + c.column;
+    if (c.metric == CheckMetric::HistoryMax) metric += " " + c.column;
     failed += r.pass ? 0 : 1;
     if (!quiet)
       std::printf("%-36s %-8s %-34s %10.3e %10.3e  %s%s%s\n", c.scene.c_str(), c.formulation.c_str(), metric.c_str(),

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <functional>
 #include <filesystem>
+#include <functional>
 #include <sstream>
 
 namespace rpfem {

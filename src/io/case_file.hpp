@@ -8,7 +8,9 @@
 #pragma once
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -39,6 +41,11 @@ class CaseSection {
   int integer(const std::string& key, std::optional<int> def, int lo, int hi);
   std::string text(const std::string& key, std::optional<std::string> def,
                    const std::vector<std::string>& allowed = {});
+  // A text that names one of a fixed set of values (NamedValues, below):
+  // read and checked as text() with those names allowed, returned as the
+  // value it names. def: the default's name.
+  template <class E>
+  E choice(const std::string& key, std::optional<std::string> def, const std::vector<std::pair<std::string, E>>& names);
   bool flag(const std::string& key, std::optional<bool> def);
   // Required arrays: of exactly n numbers (n < 0: any length >= 1), of strings.
   std::vector<double> real_array(const std::string& key, int n, const std::string& what);
@@ -87,6 +94,29 @@ class CaseFile {
   toml::table used_;
   std::set<std::string> visited_;
 };
+
+// The spellings of an enum's values in input files, in the order error
+// messages list them: parsed once by CaseSection::choice, written back by
+// name_of.
+template <class E>
+using NamedValues = std::vector<std::pair<std::string, E>>;
+
+template <class E>
+E CaseSection::choice(const std::string& key, std::optional<std::string> def, const NamedValues<E>& names) {
+  std::vector<std::string> allowed;
+  for (const auto& [name, value] : names) allowed.push_back(name);
+  const std::string t = text(key, std::move(def), allowed);
+  for (const auto& [name, value] : names)
+    if (name == t) return value;
+  throw std::logic_error(full(key) + ": the default '" + t + "' is none of the names");
+}
+
+template <class E>
+const std::string& name_of(const NamedValues<E>& names, E value) {
+  for (const auto& n : names)
+    if (n.second == value) return n.first;
+  return names.front().first;  // unreachable: every value has its name
+}
 
 // The shortest decimal text that reads back as v: an override's value
 // (--set key=TEXT; a whole number reads as an integer, which a real key

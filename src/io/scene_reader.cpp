@@ -117,23 +117,61 @@ std::vector<std::string> side_list(CaseSection& c, const std::string& key, const
   return out;
 }
 
-}  // namespace
-
-Scene read_scene(CaseFile& file) {
-  Scene sc;
-  sc.file = file.path();
-  CaseSection root = file.root();
-  CaseSection run = root.required_table("run");
-  sc.name = run.text("name", std::filesystem::path(file.path()).stem().string());
+// [run]: name, description, geometry, formulation, tolerances. Returns the
+// mesh factor, which scales every body's division counts (the suite's
+// --quick: 0.5).
+double read_run(CaseSection run, const std::string& file, Scene& sc) {
+  sc.name = run.text("name", std::filesystem::path(file).stem().string());
   sc.description = run.text("description", "");
   const std::string geom = run.text("geometry", std::nullopt, {"axisymmetric", "plane_strain"});
   sc.geometry = geom == "axisymmetric" ? Geometry::Axisymmetric : Geometry::PlaneStrain;
   sc.formulation = run.text("formulation", "none");
-  // Scales every body's division counts (the suite's --quick: 0.5).
   const double mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
   sc.penetration_tolerance =
       run.real("penetration_tolerance", 1e-3, Range::positive(), "largest penetration / element size accepted");
+  return mesh_factor;
+}
 
+// A body's generated mesh, rejected if an element is inverted or, in
+// axisymmetry, the body reaches r < 0.
+Mesh read_checked_mesh(CaseSection& b, const std::string& name, double mesh_factor, Geometry geometry) {
+  Mesh m = read_mesh(b.required_table("mesh"), name, mesh_factor);
+  const MeshQuality q = mesh_quality(m);
+  if (!(q.min_scaled_jacobian > 0))
+    b.fail("mesh", "the generated mesh has an inverted or degenerate element (min scaled Jacobian " +
+                       std::to_string(q.min_scaled_jacobian) + ")");
+  if (geometry == Geometry::Axisymmetric)
+    for (const auto& p : m.x)
+      if (p(0) < -1e-12) b.fail("mesh", "an axisymmetric body must lie at r >= 0");
+  return m;
+}
+
+// A body's [[bodies.NAME.velocity]] and [[bodies.NAME.traction]] tables,
+// each on a side of its mesh (already in sc.mesh).
+void read_body_loads(CaseSection& b, const std::string& name, Scene& sc) {
+  for (CaseSection v : b.table_array("velocity")) {
+    VelocityGroup g;
+    g.body = name;
+    g.side = name + "." + v.text("side", std::nullopt);
+    g.name = v.text("name", g.side);
+    if (!sc.mesh.sides.count(g.side)) v.fail("side", "no side '" + g.side + "' on this body's mesh");
+    g.vx = v.optional_real("vx", Range::any(), "mm/s");
+    g.vy = v.optional_real("vy", Range::any(), "mm/s");
+    if (!g.vx && !g.vy) v.fail("vx", "give vx, vy or both (mm/s)");
+    sc.velocities.push_back(g);
+  }
+  for (CaseSection t : b.table_array("traction")) {
+    TractionLoad l;
+    l.side = name + "." + t.text("side", std::nullopt);
+    if (!sc.mesh.sides.count(l.side)) t.fail("side", "no side '" + l.side + "' on this body's mesh");
+    l.pressure = t.real("pressure", 0.0, Range::any(), "MPa");
+    l.t = Vec2(t.real("tx", 0.0, Range::any(), "MPa"), t.real("ty", 0.0, Range::any(), "MPa"));
+    sc.tractions.push_back(l);
+  }
+}
+
+// [bodies.NAME]: material, mesh (appended to sc.mesh), velocities, tractions.
+void read_bodies(CaseSection& root, double mesh_factor, Scene& sc) {
   CaseSection bodies = root.required_table("bodies");
   if (bodies.keys().empty()) bodies.fail("", "at least one body is required");
   for (const auto& name : bodies.keys()) {
@@ -143,37 +181,14 @@ Scene read_scene(CaseFile& file) {
     CaseSection mat = b.required_table("material");
     spec.law = read_material(mat, spec.material_name);
     spec.alpha_relative = mat.optional_real("alpha", Range::positive(), "relative, replaces solver.alpha for this body");
-    Mesh m = read_mesh(b.required_table("mesh"), name, mesh_factor);
-    const MeshQuality q = mesh_quality(m);
-    if (!(q.min_scaled_jacobian > 0))
-      b.fail("mesh", "the generated mesh has an inverted or degenerate element (min scaled Jacobian " +
-                         std::to_string(q.min_scaled_jacobian) + ")");
-    if (sc.geometry == Geometry::Axisymmetric)
-      for (const auto& p : m.x)
-        if (p(0) < -1e-12) b.fail("mesh", "an axisymmetric body must lie at r >= 0");
-    sc.mesh.append(m);
+    sc.mesh.append(read_checked_mesh(b, name, mesh_factor, sc.geometry));
     sc.bodies.push_back(spec);
-    for (CaseSection v : b.table_array("velocity")) {
-      VelocityGroup g;
-      g.body = name;
-      g.side = name + "." + v.text("side", std::nullopt);
-      g.name = v.text("name", g.side);
-      if (!sc.mesh.sides.count(g.side)) v.fail("side", "no side '" + g.side + "' on this body's mesh");
-      g.vx = v.optional_real("vx", Range::any(), "mm/s");
-      g.vy = v.optional_real("vy", Range::any(), "mm/s");
-      if (!g.vx && !g.vy) v.fail("vx", "give vx, vy or both (mm/s)");
-      sc.velocities.push_back(g);
-    }
-    for (CaseSection t : b.table_array("traction")) {
-      TractionLoad l;
-      l.side = name + "." + t.text("side", std::nullopt);
-      if (!sc.mesh.sides.count(l.side)) t.fail("side", "no side '" + l.side + "' on this body's mesh");
-      l.pressure = t.real("pressure", 0.0, Range::any(), "MPa");
-      l.t = Vec2(t.real("tx", 0.0, Range::any(), "MPa"), t.real("ty", 0.0, Range::any(), "MPa"));
-      sc.tractions.push_back(l);
-    }
+    read_body_loads(b, name, sc);
   }
+}
 
+// [[symmetry]] planes; in axisymmetry only planes normal to y.
+void read_symmetry(CaseSection& root, Scene& sc) {
   for (CaseSection s : root.table_array("symmetry")) {
     SymmetryPlane p;
     p.axis = s.text("normal", std::nullopt, {"x", "y"}) == "x" ? 0 : 1;
@@ -182,79 +197,95 @@ Scene read_scene(CaseFile& file) {
       s.fail("normal", "in axisymmetry the axis r = 0 is built in; only planes normal to 'y' (z) apply");
     sc.symmetry.push_back(p);
   }
+}
 
-  if (auto dies = root.table("dies")) {
-    for (const auto& name : dies->keys()) {
-      CaseSection d = dies->required_table(name);
-      Die die;
-      die.name = name;
-      std::vector<Vec2> vertices;
-      std::vector<double> fillets;
-      for (CaseSection v : d.table_array("vertex")) {
-        vertices.emplace_back(v.real("x", std::nullopt, Range::any(), "mm"), v.real("y", std::nullopt, Range::any(), "mm"));
-        fillets.push_back(v.real("fillet", 0.0, Range::nonnegative(), "mm"));
-      }
-      if (vertices.size() < 2) d.fail("vertex", "a die needs at least two [[dies." + name + ".vertex]] entries");
-      try {
-        die.profile = DieProfile(vertices, fillets);
-      } catch (const std::invalid_argument& e) {
-        d.fail("vertex", e.what());
-      }
-      const bool table = d.has("velocity_table");
-      if (table && (d.has("vx") || d.has("vy"))) d.fail("velocity_table", "give vx/vy or velocity_table, not both");
-      if (table) {
-        std::vector<std::array<double, 3>> rows;
-        for (CaseSection r : d.table_array("velocity_table"))
-          rows.push_back({r.real("t", std::nullopt, Range::nonnegative(), "s"), r.real("vx", 0.0, Range::any(), "mm/s"),
-                          r.real("vy", 0.0, Range::any(), "mm/s")});
-        try {
-          die.motion = DieMotion(rows);
-        } catch (const std::invalid_argument& e) {
-          d.fail("velocity_table", e.what());
-        }
-      } else {
-        die.motion = DieMotion(Vec2(d.real("vx", 0.0, Range::any(), "mm/s"), d.real("vy", 0.0, Range::any(), "mm/s")));
-      }
-      die.friction = read_friction(d.section("friction"));
-      sc.dies.push_back(die);
-    }
+// A die's outline: its [[dies.NAME.vertex]] points with their fillets.
+DieProfile read_die_profile(CaseSection& d, const std::string& name) {
+  std::vector<Vec2> vertices;
+  std::vector<double> fillets;
+  for (CaseSection v : d.table_array("vertex")) {
+    vertices.emplace_back(v.real("x", std::nullopt, Range::any(), "mm"), v.real("y", std::nullopt, Range::any(), "mm"));
+    fillets.push_back(v.real("fillet", 0.0, Range::nonnegative(), "mm"));
   }
-  for (CaseSection c : root.table_array("contact_pairs")) {
-    ContactPair p;
-    auto body_id = [&](const std::string& name) {
-      for (int b = 0; b < static_cast<int>(sc.bodies.size()); ++b)
-        if (sc.bodies[b].name == name) return b;
-      return -1;
-    };
-    p.body = c.text("body", std::nullopt);
-    p.body_id = body_id(p.body);
-    if (p.body_id < 0) c.fail("body", "no body named '" + p.body + "'");
-    p.sides = side_list(c, "sides", p.body, sc.mesh);
-    // The other side of the pair: a rigid die, or another body's sides.
-    if (c.has("die") == c.has("with")) c.fail("die", "give either 'die' (a rigid die) or 'with' (another body)");
-    if (c.has("die")) {
-      p.die = c.text("die", std::nullopt);
-      for (int d = 0; d < static_cast<int>(sc.dies.size()); ++d)
-        if (sc.dies[d].name == p.die) p.die_id = d;
-      if (p.die_id < 0) c.fail("die", "no die named '" + p.die + "'");
-      if (c.has("with_sides")) c.fail("with_sides", "only with 'with' (another body)");
-      if (c.has("friction")) c.fail("friction", "friction on a die is set in [dies.NAME.friction]");
-    } else {
-      p.with_body = c.text("with", std::nullopt);
-      p.with_body_id = body_id(p.with_body);
-      if (p.with_body_id < 0) c.fail("with", "no body named '" + p.with_body + "'");
-      if (p.with_body == p.body) c.fail("with", "a body in contact with itself is not supported");
-      p.with_sides = side_list(c, "with_sides", p.with_body, sc.mesh);
-      p.friction = read_friction(c.section("friction"));
-    }
-    sc.contact_pairs.push_back(p);
+  if (vertices.size() < 2) d.fail("vertex", "a die needs at least two [[dies." + name + ".vertex]] entries");
+  try {
+    return DieProfile(vertices, fillets);
+  } catch (const std::invalid_argument& e) {
+    d.fail("vertex", e.what());
   }
+}
 
-  CaseSection solver = root.section("solver");
-  sc.solver.alpha_relative = solver.real("alpha", 1e5, Range::positive(), "");
-  sc.solver.limit_rate_relative = solver.real("limit_strain_rate", 1e-3, Range::positive(), "");
-  sc.solver.regularization = solver.real("regularization", 0.0, Range::nonnegative(), "");
-  auto& nw = sc.solver.newton;
+// A die's motion: a constant vx, vy or a velocity_table of (t, vx, vy) rows.
+DieMotion read_die_motion(CaseSection& d) {
+  const bool table = d.has("velocity_table");
+  if (table && (d.has("vx") || d.has("vy"))) d.fail("velocity_table", "give vx/vy or velocity_table, not both");
+  if (!table) return DieMotion(Vec2(d.real("vx", 0.0, Range::any(), "mm/s"), d.real("vy", 0.0, Range::any(), "mm/s")));
+  std::vector<std::array<double, 3>> rows;
+  for (CaseSection r : d.table_array("velocity_table"))
+    rows.push_back({r.real("t", std::nullopt, Range::nonnegative(), "s"), r.real("vx", 0.0, Range::any(), "mm/s"),
+                    r.real("vy", 0.0, Range::any(), "mm/s")});
+  try {
+    return DieMotion(rows);
+  } catch (const std::invalid_argument& e) {
+    d.fail("velocity_table", e.what());
+  }
+}
+
+// [dies.NAME]: the rigid dies, each with its profile, motion and friction.
+void read_dies(CaseSection& root, Scene& sc) {
+  auto dies = root.table("dies");
+  if (!dies) return;
+  for (const auto& name : dies->keys()) {
+    CaseSection d = dies->required_table(name);
+    Die die;
+    die.name = name;
+    die.profile = read_die_profile(d, name);
+    die.motion = read_die_motion(d);
+    die.friction = read_friction(d.section("friction"));
+    sc.dies.push_back(die);
+  }
+}
+
+// One [[contact_pairs]] entry: a body's sides against a rigid die or
+// another body's sides.
+ContactPair read_contact_pair(CaseSection& c, const Scene& sc) {
+  ContactPair p;
+  auto body_id = [&](const std::string& name) {
+    for (int b = 0; b < static_cast<int>(sc.bodies.size()); ++b)
+      if (sc.bodies[b].name == name) return b;
+    return -1;
+  };
+  p.body = c.text("body", std::nullopt);
+  p.body_id = body_id(p.body);
+  if (p.body_id < 0) c.fail("body", "no body named '" + p.body + "'");
+  p.sides = side_list(c, "sides", p.body, sc.mesh);
+  if (c.has("die") == c.has("with")) c.fail("die", "give either 'die' (a rigid die) or 'with' (another body)");
+  if (c.has("die")) {
+    p.die = c.text("die", std::nullopt);
+    for (int d = 0; d < static_cast<int>(sc.dies.size()); ++d)
+      if (sc.dies[d].name == p.die) p.die_id = d;
+    if (p.die_id < 0) c.fail("die", "no die named '" + p.die + "'");
+    if (c.has("with_sides")) c.fail("with_sides", "only with 'with' (another body)");
+    if (c.has("friction")) c.fail("friction", "friction on a die is set in [dies.NAME.friction]");
+  } else {
+    p.with_body = c.text("with", std::nullopt);
+    p.with_body_id = body_id(p.with_body);
+    if (p.with_body_id < 0) c.fail("with", "no body named '" + p.with_body + "'");
+    if (p.with_body == p.body) c.fail("with", "a body in contact with itself is not supported");
+    p.with_sides = side_list(c, "with_sides", p.with_body, sc.mesh);
+    p.friction = read_friction(c.section("friction"));
+  }
+  return p;
+}
+
+// [solver]: the kernel's penalty and limiting strain rate, Newton's
+// settings, the linear solver.
+SolverSpec read_solver(CaseSection solver) {
+  SolverSpec out;
+  out.alpha_relative = solver.real("alpha", 1e5, Range::positive(), "");
+  out.limit_rate_relative = solver.real("limit_strain_rate", 1e-3, Range::positive(), "");
+  out.regularization = solver.real("regularization", 0.0, Range::nonnegative(), "");
+  auto& nw = out.newton;
   nw.tol_velocity = solver.real("tol_velocity", nw.tol_velocity, Range::positive(), "");
   nw.tol_force = solver.real("tol_force", nw.tol_force, Range::positive(), "");
   nw.max_iterations = solver.integer("max_iterations", nw.max_iterations, 1, 10000);
@@ -262,10 +293,15 @@ Scene read_scene(CaseFile& file) {
   nw.max_halvings = solver.integer("line_search_halvings", nw.max_halvings, 0, 60);
   nw.secant_after_cut = solver.flag("secant_after_cut", nw.secant_after_cut);
   const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "umfpack"});
-  sc.solver.linear_solver = ls == "cholmod" ? LinearSolverChoice::Cholmod
-                            : ls == "umfpack" ? LinearSolverChoice::Umfpack : LinearSolverChoice::Auto;
+  out.linear_solver = ls == "cholmod"   ? LinearSolverChoice::Cholmod
+                      : ls == "umfpack" ? LinearSolverChoice::Umfpack
+                                        : LinearSolverChoice::Auto;
+  return out;
+}
 
-  CaseSection st = root.required_table("stepping");
+// [stepping]: stroke, increment, the reference velocity group or die
+// (default: the first velocity group, else the first die), cuts, output.
+void read_stepping(CaseSection st, Scene& sc) {
   sc.stepping.end_stroke = st.real("end_stroke", std::nullopt, Range::positive(), "mm");
   sc.stepping.stroke_increment = st.real("stroke_increment", std::nullopt, {0, sc.stepping.end_stroke, true, false}, "mm");
   const std::string def_ref = !sc.velocities.empty() ? sc.velocities.front().name
@@ -277,6 +313,21 @@ Scene read_scene(CaseFile& file) {
   sc.stepping.integration =
       st.text("integration", "euler", {"euler", "midpoint"}) == "midpoint" ? TimeIntegration::Midpoint
                                                                           : TimeIntegration::Euler;
+}
+
+}  // namespace
+
+Scene read_scene(CaseFile& file) {
+  Scene sc;
+  sc.file = file.path();
+  CaseSection root = file.root();
+  const double mesh_factor = read_run(root.required_table("run"), file.path(), sc);
+  read_bodies(root, mesh_factor, sc);
+  read_symmetry(root, sc);
+  read_dies(root, sc);
+  for (CaseSection c : root.table_array("contact_pairs")) sc.contact_pairs.push_back(read_contact_pair(c, sc));
+  sc.solver = read_solver(root.section("solver"));
+  read_stepping(root.required_table("stepping"), sc);
   return sc;
 }
 

@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "core/types.hpp"
-#include "geometry/die.hpp"
 #include "fem/dof_map.hpp"
+#include "geometry/die.hpp"
+#include "la/linear_solver.hpp"
 #include "material/flow_stress.hpp"
 #include "mesh/mesh.hpp"
 #include "solver/newton.hpp"
-#include "la/linear_solver.hpp"
 
 namespace rpfem {
 

@@ -1,4 +1,4 @@
-// The extreme scenes of issue 7 (cases/extremes/*.toml): each case states
+// The extreme scenes (cases/extremes/*.toml): each case states
 // its expected outcome in [expect] tables (its own run and its variants');
 // this runs every run the expectations need, asserts that no run crashed
 // (exit 0 finished or 3 stopped, as its summary says), that none wrote a

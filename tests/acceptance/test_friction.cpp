@@ -1,4 +1,4 @@
-// Requirements of the direct formulation issue with friction: ring
+// Requirements of the direct formulation with friction: ring
 // compression (exact at m = 0, monotone in friction, neutral radius),
 // sticking-friction upsetting against the slab method with barrelling, no
 // penetration, nodes kept on a die arc, and the extremes.
@@ -36,7 +36,7 @@ void expect_no_penetration(const History& h, double height) {
 
 }  // namespace
 
-// Item 2: at m = 0 the inner diameter follows the homogeneous value within
+// At m = 0 the inner diameter follows the homogeneous value within
 // 0.5 percentage points at every step to 50 % reduction.
 TEST(RingCompression, FrictionlessFollowsHomogeneousDeformation) {
   const std::string dir = run_case("ring_compression", "--variant m0");
@@ -54,7 +54,7 @@ TEST(RingCompression, FrictionlessFollowsHomogeneousDeformation) {
   expect_no_penetration(h, 20);
 }
 
-// Item 2: with friction the calibration curves are monotone in m (the inner
+// With friction the calibration curves are monotone in m (the inner
 // diameter at 50 % reduction decreases as m grows) and the neutral radius
 // moves out from the inner face across the ring as friction grows.
 TEST(RingCompression, CalibrationCurvesMonotoneInFriction) {
@@ -85,7 +85,7 @@ TEST(RingCompression, CalibrationCurvesMonotoneInFriction) {
   EXPECT_LT(final_change.back(), 0.0) << "sticking: the hole shrinks";
 }
 
-// Item 3: sticking friction upsetting against the slab method, per step.
+// Sticking friction upsetting against the slab method, per step.
 TEST(FrictionUpsetting, StickingAgainstSlabMethodWithBarrelling) {
   const std::string dir = run_case("upsetting_friction", "--variant m1");
   const History h = read_history(dir + "/history.csv");
@@ -178,7 +178,7 @@ TEST(DieArc, NodesSlideAroundTheArcAndStayOnIt) {
   EXPECT_GE(touches, 6);
 }
 
-// Item 5: the extremes finish, or stop with a clear message (exit code 3)
+// The extremes finish, or stop with a clear message (exit code 3)
 // and every finished step kept.
 TEST(FrictionExtremes, StickingWithSharpSmoothingFinishes) {
   const std::string dir = run_case("upsetting_friction", "--variant extreme_m1_a1e-6");

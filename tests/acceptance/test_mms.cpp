@@ -1,4 +1,4 @@
-// Requirement (kernel issue, item 2): observed L2 order of the velocity error
+// Requirement (kernel): observed L2 order of the velocity error
 // of a manufactured solution >= 1.8 on a sequence of four meshes.
 #include <gtest/gtest.h>
 

@@ -13,10 +13,10 @@
 #include <string>
 
 #include "analytic.hpp"
+#include "core/types.hpp"
 #include "curve_comparison.hpp"
 #include "field_comparison.hpp"
 #include "homogeneous_flow.hpp"
-#include "core/types.hpp"
 #include "results.hpp"
 #include "run_case.hpp"
 

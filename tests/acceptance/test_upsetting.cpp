@@ -1,4 +1,4 @@
-// Requirement (kernel issue, item 1): frictionless homogeneous upsetting,
+// Requirement (kernel): frictionless homogeneous upsetting,
 // axisymmetric and plane strain, 50 % reduction. At every recorded step the
 // whole-body load is within 0.5 % of the exact load, the volume within 0.1 %
 // of the initial, and the effective strain uniform to 1e-3 relative.
@@ -84,7 +84,7 @@ TEST(Upsetting, FrictionlessPlaneStrainMatchesExact) {
   check_run(run_case("upsetting_frictionless_plane"), false);
 }
 
-// Requirement (direct formulation issue, item 1): frictionless flat dies
+// Requirement (direct formulation): frictionless flat dies
 // reproduce the exact homogeneous result through the contact machinery.
 TEST(Upsetting, FrictionlessFlatDieThroughContactMatchesExact) {
   const std::string dir = run_case("upsetting_dies_frictionless_axisym");

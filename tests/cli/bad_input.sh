@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Requirement (kernel issue, item 5): bad input gives a one-line error naming
-# the file and key, and exit code 2.
+# Requirement: bad input gives a one-line error naming the file and key,
+# and exit code 2.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

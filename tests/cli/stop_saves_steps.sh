@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Requirement (kernel issue, item 5): a step whose Newton iteration fails is
-# retried with half the step; a run that cannot go on stops (exit 3), says
-# why, and keeps every finished step in history.csv, result.h5 and summary.json.
+# Requirement: a step whose Newton iteration fails is retried with half the
+# step; a run that cannot go on stops (exit 3), says why, and keeps every
+# finished step in history.csv, result.h5 and summary.json.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 6: `rpfem suite` end to end on one coarse scene: every formulation
+# `rpfem suite` end to end on one coarse scene: every formulation
 # that treats rigid dies runs (direct, penalty, ipopt), suite.json lists
 # them (auglag too), and the report is built (HTML with the figure embedded, Markdown
 # twin with its figure file). A broken report path breaks CI here.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 7: a quick suite runs the shipped Test II studies (their reduced
+# A quick suite runs the shipped Test II studies (their reduced
 # grids) beside one small scene and the report carries their figures and
 # tables: the penalty sensitivity, speed against accuracy, and mesh and step
 # convergence with an observed order (tests/cli/suite.sh: a suite without

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Requirement (issue 7, extremes): a run records what makes its results
+# Requirement (extremes): a run records what makes its results
 # doubtful in summary.json `warnings` and the driver prints each; a run
 # stopped by an ill-conditioned tangent says so, with the rcond and a hint.
 set -u

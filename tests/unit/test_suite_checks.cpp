@@ -22,7 +22,7 @@ std::string suite_with_history(const std::string& name, const std::string& csv) 
 
 SuiteCheck stationarity_check(const std::string& floor) {
   SuiteCheck c;
-  c.scene = "scene", c.formulation = "ipopt", c.metric = "history_max";
+  c.scene = "scene", c.formulation = "ipopt", c.metric = CheckMetric::HistoryMax;
   c.column = "kkt_stationarity", c.floor = floor, c.tolerance = 1e-8;
   return c;
 }
