@@ -21,6 +21,10 @@ RegularizedSettings read_settings(const Scene& scene, CaseSection& s, const Cont
   return r;
 }
 
+// Aitken's relaxation factor kept within these (a factor below 1 slows
+// the plain update; one far above it follows round-off).
+constexpr double kOmegaMin = 1.0, kOmegaMax = 1e3;
+
 }  // namespace
 
 AugLagEnforcement::AugLagEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
@@ -30,6 +34,7 @@ AugLagEnforcement::AugLagEnforcement(const Scene& scene, CaseSection settings, c
   tol_compl_ = settings.real("complementarity_tolerance", 1e-8, Range::positive(),
                              "largest |N g_end / dt| relative to the total normal force times the speed scale");
   max_augmentations_ = settings.integer("max_augmentations", 20, 1, 1000);
+  aitken_ = settings.flag("aitken", true);
   speed_scale_ = scene.largest_speed();
 }
 
@@ -43,6 +48,8 @@ void AugLagEnforcement::begin_step(const StepView& v, const std::vector<ContactR
   }
   primal_ = complementarity_ = 0;
   solve_augmentations_ = 0;
+  last_step_.clear();
+  omega_ = 1;
   if (v.step != step_) augmentations_ = 0, step_ = v.step;
 }
 
@@ -80,12 +87,36 @@ StepCheck AugLagEnforcement::settle(const StepView& v, const std::vector<Vec2>& 
     out.events.push_back(buf);
     return out;
   }
-  // Uzawa's update: lambda <- N = max(0, lambda - beta r).
-  auto& lambda = rows_.lambda();
-  for (std::size_t i = 0; i < rows.size(); ++i) lambda[i] = rows_.engaged(i) ? res[i].normal : 0.0;
+  update_multipliers();
   ++augmentations_, ++solve_augmentations_;
   out.resolve = true;
   return out;
+}
+
+void AugLagEnforcement::update_multipliers() {
+  // Uzawa's update is the fixed point lambda = G(lambda) = N(lambda) =
+  // max(0, lambda - beta r(lambda)); it contracts by about K / (K + beta)
+  // per update, K the stiffness the rows see (the bodies' volumetric
+  // penalty makes it large). Aitken's relaxation of the fixed point (Irons
+  // and Tuck 1969; Kuettler and Wall 2008, eq. 44):
+  //   lambda <- max(0, lambda + omega d),  d = G(lambda) - lambda,
+  //   omega <- -omega d_prev . (d - d_prev) / |d - d_prev|^2
+  // (omega = 1 the first time, and whenever the rows changed).
+  const auto& rows = rows_.rows();
+  const auto& res = rows_.results();
+  auto& lambda = rows_.lambda();
+  std::vector<double> d(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) d[i] = (rows_.engaged(i) ? res[i].normal : 0.0) - lambda[i];
+  if (aitken_ && last_step_.size() == d.size()) {
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      const double dd = d[i] - last_step_[i];
+      num += last_step_[i] * dd, den += dd * dd;
+    }
+    if (den > 0) omega_ = std::clamp(-omega_ * num / den, kOmegaMin, kOmegaMax);
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) lambda[i] = std::max(0.0, lambda[i] + omega_ * d[i]);
+  last_step_ = std::move(d);
 }
 
 void AugLagEnforcement::columns(std::vector<NamedValue>& out) const {
@@ -99,6 +130,7 @@ void AugLagEnforcement::derived(std::vector<NamedValue>& out) const {
   out.push_back({"auglag.tolerance", tol_primal_});
   out.push_back({"auglag.complementarity_tolerance", tol_compl_});
   out.push_back({"auglag.max_augmentations", double(max_augmentations_)});
+  out.push_back({"auglag.aitken", aitken_ ? 1.0 : 0.0});
 }
 
 }  // namespace rpfem

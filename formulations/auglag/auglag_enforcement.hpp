@@ -35,6 +35,13 @@ class AugLagEnforcement final : public RegularizedEnforcement {
   std::string name() const override { return "auglag"; }
   void begin_step(const StepView& v, const std::vector<ContactRow>& rows) override;
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
+  // The penalty's tangent; its gaps are measured from the velocities, to a
+  // tenth of the tolerance: Newton's velocity error at most kTolVelocity.
+  TangentKind tangent() const override {
+    TangentKind k = rows_.tangent();
+    k.tol_velocity = kTolVelocity;
+    return k;
+  }
   void columns(std::vector<NamedValue>& out) const override;
   std::optional<double> penetration_rel() const override { return primal_; }
   void derived(std::vector<NamedValue>& out) const override;
@@ -42,6 +49,10 @@ class AugLagEnforcement final : public RegularizedEnforcement {
  private:
   // The residuals of the last solve into primal_ and complementarity_.
   void measure(const StepView& v, const std::vector<Vec2>& vel);
+  // The next multipliers from this solve's forces (Uzawa's update,
+  // accelerated).
+  void update_multipliers();
+  static constexpr double kTolVelocity = 1e-10;
 
   std::map<std::pair<int, Index>, double> lambda_;  // N, by row identity
   double tol_primal_ = 0, tol_compl_ = 0, speed_scale_ = 0;
@@ -50,6 +61,11 @@ class AugLagEnforcement final : public RegularizedEnforcement {
   int augmentations_ = 0;        // in this step (all its solves)
   int step_ = -1;
   double primal_ = 0, complementarity_ = 0;
+  // Aitken's relaxation of the update: the last update's residual N - lambda
+  // per row and its factor.
+  std::vector<double> last_step_;
+  double omega_ = 1;
+  bool aitken_ = true;  // false: plain Uzawa (omega = 1)
 };
 
 }  // namespace rpfem

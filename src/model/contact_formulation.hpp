@@ -62,6 +62,10 @@ struct TangentKind {
   // Not a potential, but the treatment can anchor a merit at an iterate
   // (anchor_merit): the line search then uses it instead of the residual norm.
   bool merit = false;
+  // > 0: the treatment measures its constraints from the velocities (an
+  // augmented Lagrangian's gaps) and needs Newton's velocity error below
+  // this (relative); the tighter of it and solver.tol_velocity is used.
+  double tol_velocity = 0;
 };
 
 // Outcome of a step solved by a treatment's own solver.

@@ -215,7 +215,9 @@ NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u
     r.reason = o.reason;
     return r;
   }
-  NewtonResult r = newton_solve(problem.newton_system(), scene_.solver.newton, u);
+  NewtonSettings settings = scene_.solver.newton;
+  if (const double t = contact_.tangent().tol_velocity; t > 0) settings.tol_velocity = std::min(settings.tol_velocity, t);
+  NewtonResult r = newton_solve(problem.newton_system(), settings, u);
   if (!r.converged) r.reason = "Newton: " + r.reason;
   return r;
 }
