@@ -9,7 +9,7 @@ import os
 import h5py
 import numpy as np
 
-REFERENCE_ORDER = ["direct", "ipopt", "penalty", "none"]
+REFERENCE_ORDER = ["direct", "ipopt", "auglag", "penalty", "none"]
 
 
 def read_history(path):

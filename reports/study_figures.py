@@ -20,7 +20,7 @@ from curve_figures import floored
 from plotting import missing_panel, plt, png_bytes
 from study_results import short, size
 
-MARKERS = {"direct": "o", "penalty": "s", "ipopt": "^"}
+MARKERS = {"direct": "o", "penalty": "s", "auglag": "v", "ipopt": "^"}
 NAN = float("nan")
 
 

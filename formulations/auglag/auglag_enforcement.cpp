@@ -89,7 +89,7 @@ StepCheck AugLagEnforcement::settle(const StepView& v, const std::vector<Vec2>& 
   }
   update_multipliers();
   ++augmentations_, ++solve_augmentations_;
-  out.resolve = true;
+  out.resolve = out.warm = true;
   return out;
 }
 

@@ -12,12 +12,10 @@
 #include "core/version.hpp"
 #include "factory.hpp"
 
-int main(int argc, char** argv) {
-  CLI::App app{"rpfem: rigid-plastic finite elements for metal forming with frictional contact"};
-  app.set_version_flag("--version", rpfem::kVersion);
-  app.require_subcommand(1);
+namespace {
 
-  rpfem::RunOptions run;
+// `rpfem run`: one case.
+CLI::App* add_run(CLI::App& app, rpfem::RunOptions& run) {
   std::string formulation_help =
       "contact enforcement, overriding the case's contact.enforcement (or ENFORCEMENT+DISCRETIZATION):";
   for (const auto& f : rpfem::formulations()) formulation_help += "\n  " + f.name + ": " + f.help;
@@ -32,18 +30,22 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--variant", run.variant,
                       "run a [[variants]] entry of the case (its overrides, then --set's); 'all': each into OUT/NAME");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress output");
+  return run_cmd;
+}
 
-  // The options of the commands that run many cases on a worker pool.
-  auto pool_options = [](CLI::App* cmd, auto& o, const std::string& cases_help, const std::string& quick_help) {
-    cmd->add_option("--cases", o.cases_dir, cases_help)->capture_default_str();
-    cmd->add_option("--out,-o", o.out_dir, "output folder")->capture_default_str();
-    cmd->add_option("--set,-s", o.overrides, "override a case value in every run: key.path=value");
-    cmd->add_option("--jobs,-j", o.jobs, "runs in parallel (default: the machine's cores)");
-    cmd->add_flag("--quick", o.quick, quick_help);
-    cmd->add_flag("--quiet,-q", o.quiet, "no progress output");
-  };
+// The options of the commands that run many cases on a worker pool.
+template <class Options>
+void pool_options(CLI::App* cmd, Options& o, const std::string& cases_help, const std::string& quick_help) {
+  cmd->add_option("--cases", o.cases_dir, cases_help)->capture_default_str();
+  cmd->add_option("--out,-o", o.out_dir, "output folder")->capture_default_str();
+  cmd->add_option("--set,-s", o.overrides, "override a case value in every run: key.path=value");
+  cmd->add_option("--jobs,-j", o.jobs, "runs in parallel (default: the machine's cores)");
+  cmd->add_flag("--quick", o.quick, quick_help);
+  cmd->add_flag("--quiet,-q", o.quiet, "no progress output");
+}
 
-  rpfem::SuiteOptions suite;
+// `rpfem suite`: every scene and the studies, then the report.
+CLI::App* add_suite(CLI::App& app, rpfem::SuiteOptions& suite) {
   suite.cases_dir = std::string(RPFEM_SOURCE_DIR) + "/cases";
   suite.out_dir = "out";
   suite.checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
@@ -66,23 +68,35 @@ int main(int argc, char** argv) {
       "the scenes named)");
   suite_cmd->add_flag("!--no-studies", suite.run_studies, "skip the studies of CASES/studies")->excludes(study_opt);
   suite_cmd->add_flag("!--no-report", suite.report, "skip the report");
+  return suite_cmd;
+}
 
-  rpfem::SweepOptions sweep;
-  sweep.cases_dir = suite.cases_dir;
+// `rpfem sweep`: one scene over a study's grid.
+CLI::App* add_sweep(CLI::App& app, rpfem::SweepOptions& sweep, const std::string& cases_dir) {
+  sweep.cases_dir = cases_dir;
   sweep.out_dir = "sweep_out";
   auto* sweep_cmd = app.add_subcommand("sweep", "Run one scene over a study's grid of numerical parameters; one table");
   sweep_cmd->add_option("study", sweep.study_file, "study file (TOML, e.g. cases/studies/*.toml)")->required();
   pool_options(sweep_cmd, sweep, "folder of the scenes a study names",
                "the study's reduced grid (its axes' quick values and quick_set)");
+  return sweep_cmd;
+}
 
-  std::string verify_dir, checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
-  bool verify_quiet = false;
+// `rpfem verify`: the acceptance checks on a suite folder.
+struct VerifyOptions {
+  std::string dir, checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
+  bool quiet = false;
+};
+CLI::App* add_verify(CLI::App& app, VerifyOptions& v) {
   auto* verify_cmd = app.add_subcommand("verify", "Evaluate the acceptance checks on a suite folder");
-  verify_cmd->add_option("dir", verify_dir, "suite output folder")->required();
-  verify_cmd->add_option("--checks", checks_file, "checks file (TOML)")->capture_default_str();
-  verify_cmd->add_flag("--quiet,-q", verify_quiet, "no table");
+  verify_cmd->add_option("dir", v.dir, "suite output folder")->required();
+  verify_cmd->add_option("--checks", v.checks_file, "checks file (TOML)")->capture_default_str();
+  verify_cmd->add_flag("--quiet,-q", v.quiet, "no table");
+  return verify_cmd;
+}
 
-  rpfem::CalibrateOptions cal;
+// `rpfem calibrate`: a case value from a target curve, or the smallest penalty.
+CLI::App* add_calibrate(CLI::App& app, rpfem::CalibrateOptions& cal) {
   auto* cal_cmd = app.add_subcommand(
       "calibrate", "Identify a case value from a target curve, or (--auto-beta) the smallest penalty; NLopt, "
                    "one run per evaluation in OUT/evals (docs/calibrate.md)");
@@ -112,7 +126,25 @@ int main(int argc, char** argv) {
                                           "beta_factor, default 0.01)");
   cal_cmd->add_option("--max-evals", cal.max_evals, "NLopt's evaluation limit")->capture_default_str();
   cal_cmd->add_flag("--quiet,-q", cal.quiet, "no progress output");
+  return cal_cmd;
+}
 
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rpfem: rigid-plastic finite elements for metal forming with frictional contact"};
+  app.set_version_flag("--version", rpfem::kVersion);
+  app.require_subcommand(1);
+  rpfem::RunOptions run;
+  rpfem::SuiteOptions suite;
+  rpfem::SweepOptions sweep;
+  VerifyOptions verify;
+  rpfem::CalibrateOptions cal;
+  CLI::App* run_cmd = add_run(app, run);
+  CLI::App* suite_cmd = add_suite(app, suite);
+  CLI::App* sweep_cmd = add_sweep(app, sweep, suite.cases_dir);
+  CLI::App* verify_cmd = add_verify(app, verify);
+  CLI::App* cal_cmd = add_calibrate(app, cal);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -123,7 +155,7 @@ int main(int argc, char** argv) {
     if (*suite_cmd) return rpfem::suite_command(suite);
     if (*sweep_cmd) return rpfem::sweep_command(sweep);
     if (*cal_cmd) return rpfem::calibrate_command(cal);
-    if (*verify_cmd) return rpfem::verify_command(verify_dir, checks_file, verify_quiet);
+    if (*verify_cmd) return rpfem::verify_command(verify.dir, verify.checks_file, verify.quiet);
   } catch (const rpfem::InputError& e) {
     std::fprintf(stderr, "rpfem: error: %s\n", e.what());
     return 2;

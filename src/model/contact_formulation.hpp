@@ -88,6 +88,10 @@ class StepSolver {
 // Verdict after a converged solve.
 struct StepCheck {
   bool resolve = false;                 // contact state changed: solve again
+  // The change is small (multipliers only): the next solve starts on
+  // Newton's consistent tangent, without the secant iterations meant for a
+  // new configuration or a new contact state.
+  bool warm = false;
   std::vector<std::string> events;      // touches, releases (logged per step)
 };
 

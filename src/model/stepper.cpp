@@ -79,6 +79,22 @@ class Runner {
   RunOutcome run();
 
  private:
+  // One try of a step of length dt from st: the midpoint's half-step
+  // solve, the move, the end solve. Empty on success, else why it failed.
+  struct Attempt {
+    State next;
+    Solution sol;
+    std::vector<Vec2> moved_by;
+    bool factorized = false;  // a failed solve: its least rcond and whether Newton stalled
+    double rcond = INFINITY;
+    bool stalled = false;
+  };
+  // Scales, materials, the run's start for the observer.
+  void set_up();
+  std::string attempt(const State& st, const Solution& sol, int step, double dt, Attempt& out);
+  // A step from st (sol solved there), halving it on failure; false when
+  // the run stops (out_.reason says why).
+  bool take_step(State& st, Solution& sol, int step);
   // from: the state the solved velocity moves from (default st).
   // from: the state the velocity moves the nodes from (midpoint half step);
   // moves: whether it moves them at all (StepView::moves).
@@ -116,6 +132,7 @@ class Runner {
   int min_rcond_step_ = -1, floor_steps_ = 0, worst_floor_step_ = -1;
   double worst_floor_ = 0;
   int penetrating_steps_ = 0, worst_penetration_step_ = -1;
+  bool warm_ = false;  // the next pass re-solves after a small change (StepCheck::warm)
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
 };
 
@@ -153,6 +170,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   std::vector<Vec2> v = guess;
   const bool cold = std::all_of(guess.begin(), guess.end(), [](const Vec2& g) { return g.isZero(); });
   constexpr int kMaxPasses = 50;
+  warm_ = false;
   for (sol.passes = 1; sol.passes <= kMaxPasses; ++sol.passes) {
     std::vector<NodeConstraint> cons = bc_.constraints;
     contact_.constraints(sv, cons);
@@ -178,6 +196,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     problem.nodal_forces(v, sol.F);
     StepCheck check = contact_.settle(sv, v, sol.F);
     sol.events.insert(sol.events.end(), check.events.begin(), check.events.end());
+    warm_ = check.warm;
     if (!check.resolve) break;
   }
   if (sol.passes > kMaxPasses) return fail("contact state did not settle in " + std::to_string(kMaxPasses) + " passes");
@@ -216,6 +235,7 @@ NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u
     return r;
   }
   NewtonSettings settings = scene_.solver.newton;
+  if (warm_) settings.direct_iterations = 0;
   if (const double t = contact_.tangent().tol_velocity; t > 0) settings.tol_velocity = std::min(settings.tol_velocity, t);
   NewtonResult r = newton_solve(problem.newton_system(), settings, u);
   if (!r.converged) r.reason = "Newton: " + r.reason;
@@ -344,13 +364,9 @@ RunOutcome Runner::finish() {
   return out_;
 }
 
-RunOutcome Runner::run() {
+void Runner::set_up() {
   const Mesh& mesh = scene_.mesh;
-  State st;
-  st.x = mesh.x;
-  st.strain.assign(mesh.num_elements(), {0, 0, 0, 0});
   bc_ = KernelConstraints(scene_);
-
   // Scales: the reference motion's speed over the bodies' size.
   const auto& ref = scene_.stepping.reference;
   if (auto s = bc_.group_speed(ref)) derived_.reference_speed = *s;
@@ -380,11 +396,84 @@ RunOutcome Runner::run() {
   for (const auto& n : info.load_names) load_names.push_back(n);
   derived_.contact = info.derived;
   obs_.on_start(derived_, load_names, info.column_names);
+}
 
-  // In the midpoint scheme the half-step solve moves the nodes; the solves
-  // at the start and end of a step only predict and record.
+std::string Runner::attempt(const State& st, const Solution& sol, int step, double dt, Attempt& out) {
+  // In the midpoint scheme the velocity at the half step moves the nodes
+  // (second order in dt); the solves at the start and end of a step only
+  // predict and record.
   const bool midpoint = scene_.stepping.integration == TimeIntegration::Midpoint;
-  Solution sol = solve(st, std::vector<Vec2>(mesh.x.size(), Vec2::Zero()), 0, derived_.dt_nominal, nullptr, !midpoint);
+  const Solution* mover = &sol;
+  Solution mid;
+  auto failed = [&](const Solution& f, const std::string& why) {
+    out.rcond = f.rcond, out.stalled = f.stalled, out.factorized = true;
+    return why;
+  };
+  if (midpoint) {
+    mid = solve(advance(st, sol, 0.5 * dt), sol.v, step, dt, &st);
+    if (!mid.failure.empty()) return failed(mid, "midpoint solve: " + mid.failure);
+    mover = &mid;
+  }
+  out.next = advance(st, *mover, dt);
+  StepView moved = view(st, step, dt);
+  moved.time = out.next.time;
+  moved.x = moved.x_from = &out.next.x;
+  moved.time_from = out.next.time;
+  contact_.place_on_surfaces(moved, out.next.x);
+  const double q = mesh_quality(scene_.mesh, out.next.x).min_scaled_jacobian;
+  // A corner angle of exactly 180 degrees (scaled Jacobian 0) is not an
+  // inversion: it is what a side node folding over onto a flat die makes of
+  // its element's corner (the element stays integrable); only a reflex
+  // corner beyond round-off is.
+  constexpr double kReflexTolerance = 1e-9;
+  if (!(q > -kReflexTolerance)) return "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
+  out.sol = solve(out.next, mover->v, step, dt, nullptr, !midpoint);
+  if (!out.sol.failure.empty()) return failed(out.sol, out.sol.failure);
+  out.moved_by = mover->v;
+  // Contact events found by the half-step solve belong to this step.
+  out.sol.events.insert(out.sol.events.begin(), mid.events.begin(), mid.events.end());
+  out.sol.iterations += mid.iterations;
+  out.sol.solves += mid.solves;
+  return "";
+}
+
+bool Runner::take_step(State& st, Solution& sol, int step) {
+  const double end = scene_.stepping.end_stroke;
+  double dt = std::min(derived_.dt_nominal, (end - st.stroke) / derived_.reference_speed);
+  if (auto lim = contact_.limit_dt(view(st, step, dt), sol.v)) dt = std::min(dt, *lim);
+  Attempt a;
+  int cuts = 0;
+  for (;; ++cuts) {
+    a = Attempt{};
+    const std::string why = attempt(st, sol, step, dt, a);
+    if (why.empty()) break;
+    if (cuts == scene_.stepping.max_cuts) {
+      out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) + " mm failed after " +
+                    std::to_string(cuts) + " step halvings: " + why +
+                    (a.factorized ? conditioning_note(a.rcond, a.stalled) : std::string());
+      return false;
+    }
+    obs_.on_retry(step, dt, why);
+    dt *= 0.5;
+  }
+  contact_.end_step(view(st, step, dt), a.moved_by);
+  st = std::move(a.next);
+  sol = std::move(a.sol);
+  flow_stress_ = sol.flow_stress;
+  out_.total_newton_iterations += sol.iterations;
+  out_.total_cuts += cuts;
+  out_.steps = step;
+  record(st, sol, step, dt, cuts);
+  return true;
+}
+
+RunOutcome Runner::run() {
+  set_up();
+  State st;
+  st.x = scene_.mesh.x;
+  st.strain.assign(scene_.mesh.num_elements(), {0, 0, 0, 0});
+  const bool midpoint = scene_.stepping.integration == TimeIntegration::Midpoint;
+  Solution sol = solve(st, std::vector<Vec2>(st.x.size(), Vec2::Zero()), 0, derived_.dt_nominal, nullptr, !midpoint);
   if (!sol.failure.empty()) {
     out_.reason = "step 0 (initial configuration): " + sol.failure + conditioning_note(sol.rcond, sol.stalled);
     return finish();
@@ -392,74 +481,10 @@ RunOutcome Runner::run() {
   flow_stress_ = sol.flow_stress;
   record(st, sol, 0, 0.0, 0);
   out_.total_newton_iterations += sol.iterations;
-
   const double end = scene_.stepping.end_stroke;
   const double eps = 1e-9 * std::max(end, 1.0);
-  for (int step = 1; st.stroke < end - eps; ++step) {
-    double dt = std::min(derived_.dt_nominal, (end - st.stroke) / derived_.reference_speed);
-    if (auto lim = contact_.limit_dt(view(st, step, dt), sol.v)) dt = std::min(dt, *lim);
-    int cuts = 0;
-    State next;
-    Solution next_sol;
-    std::vector<Vec2> moved_by;
-    for (;; ++cuts) {
-      std::string why;
-      const Solution* failed = nullptr;  // the solve that failed
-      const Solution* mover = &sol;
-      Solution mid;
-      if (midpoint) {
-        // Velocity at the half step moves the nodes: second order in dt.
-        State half = advance(st, sol, 0.5 * dt);
-        mid = solve(half, sol.v, step, dt, &st);
-        if (mid.failure.empty()) mover = &mid;
-        else why = "midpoint solve: " + mid.failure, failed = &mid;
-      }
-      if (why.empty()) {
-        next = advance(st, *mover, dt);
-        StepView moved = view(st, step, dt);
-        moved.time = next.time;
-        moved.x = moved.x_from = &next.x;
-        moved.time_from = next.time;
-        contact_.place_on_surfaces(moved, next.x);
-        const double q = mesh_quality(mesh, next.x).min_scaled_jacobian;
-        // A corner angle of exactly 180 degrees (scaled Jacobian 0) is not an
-        // inversion: it is what a side node folding over onto a flat die
-        // makes of its element's corner (the element stays integrable); only
-        // a reflex corner beyond round-off is.
-        constexpr double kReflexTolerance = 1e-9;
-        if (!(q > -kReflexTolerance)) why = "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
-      }
-      if (why.empty()) {
-        next_sol = solve(next, mover->v, step, dt, nullptr, !midpoint);
-        why = next_sol.failure;
-        if (!why.empty()) failed = &next_sol;
-      }
-      if (why.empty()) {
-        moved_by = mover->v;
-        // Contact events found by the half-step solve belong to this step.
-        next_sol.events.insert(next_sol.events.begin(), mid.events.begin(), mid.events.end());
-        next_sol.iterations += mid.iterations;
-        next_sol.solves += mid.solves;
-        break;
-      }
-      if (cuts == scene_.stepping.max_cuts) {
-        out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) +
-                      " mm failed after " + std::to_string(cuts) + " step halvings: " + why +
-                      (failed ? conditioning_note(failed->rcond, failed->stalled) : std::string());
-        return finish();
-      }
-      obs_.on_retry(step, dt, why);
-      dt *= 0.5;
-    }
-    contact_.end_step(view(st, step, dt), moved_by);
-    st = std::move(next);
-    sol = std::move(next_sol);
-    flow_stress_ = sol.flow_stress;
-    out_.total_newton_iterations += sol.iterations;
-    out_.total_cuts += cuts;
-    out_.steps = step;
-    record(st, sol, step, dt, cuts);
-  }
+  for (int step = 1; st.stroke < end - eps; ++step)
+    if (!take_step(st, sol, step)) return finish();
   out_.finished = true;
   return finish();
 }
