@@ -86,10 +86,8 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
   // kAcceptKkt, it solves once more from its solution with the tolerance
   // of the solution's forces.
   // The run's first solve starts cold, far from its solution: with Ipopt's
-  // own initial barrier parameter (0.1) rather than the small one meant for
-  // warm starts (mu_init), which sent the first solve of Test II's coarse
-  // mesh into a failed restoration phase or not with the last bits of its
-  // start (docs/notes.md).
+  // own initial barrier parameter (0.1), not the small one meant for warm
+  // starts (mu_init; docs/notes.md, "What moved").
   const bool cold = !(last_scale_ > 0);
   if (cold) {
     Vec R;
