@@ -18,7 +18,7 @@ const std::vector<FormulationInfo>& formulations() {
       {"auglag", "augmented Lagrangian: the penalty with Uzawa updates of the multipliers to the Kuhn-Tucker "
                  "conditions", true, true},
       {"ipopt", "each step a constrained minimization solved by Ipopt: the Kuhn-Tucker contact conditions to solver "
-                "tolerance", true, true},
+                "tolerance", true, true, true},
   };
   return list;
 }

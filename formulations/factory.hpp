@@ -21,6 +21,10 @@ struct FormulationInfo {
   std::string help;
   bool dies = false;    // treats contact with rigid dies
   bool bodies = false;  // treats contact between deformable bodies
+  // Satisfies the rows exactly (needs them linearly independent): two pass
+  // over-constrains a non-matching interface for it (Puso and Laursen
+  // 2004). It runs two pass when a case asks, but the suite does not add it.
+  bool exact = false;
 };
 // The enforcements ("none" first).
 const std::vector<FormulationInfo>& formulations();

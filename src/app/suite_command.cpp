@@ -32,7 +32,8 @@ using Job = PoolRun;
 // The combinations that treat every contact of the scene: each enforcement
 // that applies with the scene's discretization (labelled by the
 // enforcement alone), and with every other discretization that differs
-// from it there (ENFORCEMENT+DISCRETIZATION).
+// from it there (ENFORCEMENT+DISCRETIZATION), except two pass under an
+// exact enforcement (FormulationInfo::exact).
 std::vector<std::string> applicable(CaseFile& file, const Scene& scene) {
   bool dies = false, bodies = false;
   for (const auto& p : scene.contact_pairs) (p.with_die() ? dies : bodies) = true;
@@ -44,7 +45,8 @@ std::vector<std::string> applicable(CaseFile& file, const Scene& scene) {
   const std::size_t n = out.size();
   for (const auto& d : discretizations())
     if (d.name != own && (bodies || !d.between_bodies_only))
-      for (std::size_t i = 0; i < n; ++i) out.push_back(out[i] + "+" + d.name);
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(d.between_bodies_only && find_formulation(out[i])->exact)) out.push_back(out[i] + "+" + d.name);
   return out;
 }
 
