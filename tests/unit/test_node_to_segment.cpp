@@ -116,49 +116,45 @@ TEST(NodeToSegment, DieRowsAreasAndStickingBounds) {
   EXPECT_NEAR(area[at9].kw, k * area[at9].area, 1e-9);
 }
 
-namespace {
-
-// The rows a contact model of the cylinder's case text holds after its
-// begin_step on the initial configuration.
-std::vector<ContactRow> model_rows(const std::string& text, bool landing_control, bool moves) {
-  CaseFile file(unit::write_temp("nts_model_" + std::to_string(getpid()) + ".toml", text),
-                {std::string("contact.landing_control=") + (landing_control ? "true" : "false")});
-  const Scene scene = read_scene(file);
-  const auto contact = make_contact(file, scene);
-  std::vector<double> flow(scene.mesh.num_elements(), 300.0);
-  StepView v;
-  v.mesh = &scene.mesh;
-  v.x = v.x_from = &scene.mesh.x;
-  v.flow_stress = &flow;
-  v.geometry = scene.geometry;
-  v.dt = 0.1;
-  v.moves = moves;
-  contact->begin_step(v);
-  return dynamic_cast<const ContactModel&>(*contact).rows();
-}
-
-std::string die_at(const std::string& y) {
-  std::string text = kCylinder;
-  for (std::size_t at; (at = text.find("y = 10.0\n")) != std::string::npos;) text.replace(at, 9, "y = " + y + "\n");
-  return text;
-}
-
-}  // namespace
-
 TEST(ContactModel, InstantaneousSolveFreesRowsClearOfTheirMaster) {
+  std::string text = kCylinder;
+  for (std::size_t at; (at = text.find("y = 10.0")) != std::string::npos;) text.replace(at, 8, "y = 10.5");
+  CylinderScene s(text);
+  std::vector<double> flow(s.scene.mesh.num_elements(), 300.0);
   for (const bool control : {true, false}) {
-    for (const ContactRow& r : model_rows(die_at("10.5"), control, true)) EXPECT_FALSE(r.free);
-    // An instantaneous solve: a gap of 0.5 mm takes no part.
-    const auto rows = model_rows(die_at("10.5"), control, false);
-    ASSERT_EQ(rows.size(), 11u);
-    for (const ContactRow& r : rows) {
+    CaseFile file(unit::write_temp("nts_model_" + std::to_string(getpid()) + ".toml", text),
+                  {std::string("contact.landing_control=") + (control ? "true" : "false")});
+    const Scene scene = read_scene(file);
+    const auto contact = make_contact(file, scene);
+    const auto& model = dynamic_cast<const ContactModel&>(*contact);
+    StepView v = s.view;
+    v.mesh = &scene.mesh;
+    v.x = v.x_from = &scene.mesh.x;
+    contact->begin_step(v);
+    for (const ContactRow& r : model.rows()) EXPECT_FALSE(r.free);
+    v.moves = false;  // an instantaneous solve: a gap of 0.5 mm takes no part
+    contact->begin_step(v);
+    ASSERT_EQ(model.rows().size(), 11u);
+    for (const ContactRow& r : model.rows()) {
       EXPECT_TRUE(r.free);
       EXPECT_NEAR(r.kin.gap0, 0.5, 1e-12);
       EXPECT_EQ(r.kin.gap_from, 0.0);  // only a penetration is corrected over dt
     }
-    // A gap of 1e-4 of the element size: touching within a step's landing
-    // band (1e-3), clear of landing control's (1e-5).
-    for (const ContactRow& r : model_rows(die_at("10.0001"), control, false))
-      EXPECT_EQ(r.free, control) << (control ? "with" : "without");
+  }
+  // A gap of 1e-4 of the element size: touching within a step's landing
+  // band (1e-3), clear of landing control's (1e-5).
+  for (std::size_t at; (at = text.find("y = 10.5")) != std::string::npos;) text.replace(at, 8, "y = 10.0001");
+  for (const bool control : {true, false}) {
+    CaseFile file(unit::write_temp("nts_band_" + std::to_string(getpid()) + ".toml", text),
+                  {std::string("contact.landing_control=") + (control ? "true" : "false")});
+    const Scene scene = read_scene(file);
+    const auto contact = make_contact(file, scene);
+    const auto& model = dynamic_cast<const ContactModel&>(*contact);
+    StepView v = s.view;
+    v.mesh = &scene.mesh;
+    v.x = v.x_from = &scene.mesh.x;
+    v.moves = false;
+    contact->begin_step(v);
+    for (const ContactRow& r : model.rows()) EXPECT_EQ(r.free, control) << (control ? "with" : "without");
   }
 }
