@@ -26,16 +26,6 @@ bool carries(const RowResult& res) { return res.normal != 0 || res.friction != 0
 // A slave node touching within this fraction of the step is taken as in
 // contact at the next step (its landing is the touch tolerance's).
 constexpr double kNegligibleLanding = 1e-6;
-// What a landing leaves between a slave and its master, relative to the
-// element size: a node landed within a step (no landing control) ends it
-// this close to its master (the linearized geometry of the step); with
-// landing control a step ends at the landing, to the landing prediction's
-// error. The wider band pressed nodes still 1e-3 h away at the record
-// solve; between two deforming bodies that gap is twice a rigid die's, so
-// Test I's double action landed 0.0013 mm after its single action
-// (docs/notes.md).
-constexpr double kLandedWithinStep = 1e-3;
-constexpr double kLandedWithControl = 1e-5;
 
 }  // namespace
 
@@ -63,16 +53,6 @@ ContactInfo ContactModel::info() const {
 
 void ContactModel::begin_step(const StepView& v) {
   disc_->rows(v, rows_, events_);
-  // An instantaneous solve anticipates no landing: only slaves touching now
-  // take part (to within what a landing leaves of the interface's element
-  // size), and only a penetration is corrected over dt.
-  if (!v.moves) {
-    const double band = settings_.landing_control ? kLandedWithControl : kLandedWithinStep;
-    for (ContactRow& r : rows_) {
-      r.free = r.kin.gap0 > band * disc_->interfaces()[r.iface].h;
-      r.kin.gap_from = std::min(r.kin.gap_from, 0.0);
-    }
-  }
   enf_->begin_step(v, rows_);
 }
 

@@ -1,7 +1,6 @@
 // The node-to-segment discretization (formulations/node_to_segment): the
 // rows against a flat die, their contact areas and sticking bounds k w
-// over the edges in contact; and the rows an instantaneous solve leaves
-// out (contact/contact_model.hpp), with and without landing control.
+// over the edges in contact, and the two-pass share of friction.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -11,8 +10,6 @@
 
 #include "io/case_file.hpp"
 #include "io/scene_reader.hpp"
-#include "contact/contact_model.hpp"
-#include "factory.hpp"
 #include "node_to_segment/node_to_segment.hpp"
 #include "temp_file.hpp"
 
@@ -116,45 +113,20 @@ TEST(NodeToSegment, DieRowsAreasAndStickingBounds) {
   EXPECT_NEAR(area[at9].kw, k * area[at9].area, 1e-9);
 }
 
-TEST(ContactModel, InstantaneousSolveFreesRowsClearOfTheirMaster) {
+TEST(NodeToSegment, InstantaneousSolveFreesRowsClearOfTheirMaster) {
   std::string text = kCylinder;
   for (std::size_t at; (at = text.find("y = 10.0")) != std::string::npos;) text.replace(at, 8, "y = 10.5");
   CylinderScene s(text);
-  std::vector<double> flow(s.scene.mesh.num_elements(), 300.0);
-  for (const bool control : {true, false}) {
-    CaseFile file(unit::write_temp("nts_model_" + std::to_string(getpid()) + ".toml", text),
-                  {std::string("contact.landing_control=") + (control ? "true" : "false")});
-    const Scene scene = read_scene(file);
-    const auto contact = make_contact(file, scene);
-    const auto& model = dynamic_cast<const ContactModel&>(*contact);
-    StepView v = s.view;
-    v.mesh = &scene.mesh;
-    v.x = v.x_from = &scene.mesh.x;
-    contact->begin_step(v);
-    for (const ContactRow& r : model.rows()) EXPECT_FALSE(r.free);
-    v.moves = false;  // an instantaneous solve: a gap of 0.5 mm takes no part
-    contact->begin_step(v);
-    ASSERT_EQ(model.rows().size(), 11u);
-    for (const ContactRow& r : model.rows()) {
-      EXPECT_TRUE(r.free);
-      EXPECT_NEAR(r.kin.gap0, 0.5, 1e-12);
-      EXPECT_EQ(r.kin.gap_from, 0.0);  // only a penetration is corrected over dt
-    }
-  }
-  // A gap of 1e-4 of the element size: touching within a step's landing
-  // band (1e-3), clear of landing control's (1e-5).
-  for (std::size_t at; (at = text.find("y = 10.5")) != std::string::npos;) text.replace(at, 8, "y = 10.0001");
-  for (const bool control : {true, false}) {
-    CaseFile file(unit::write_temp("nts_band_" + std::to_string(getpid()) + ".toml", text),
-                  {std::string("contact.landing_control=") + (control ? "true" : "false")});
-    const Scene scene = read_scene(file);
-    const auto contact = make_contact(file, scene);
-    const auto& model = dynamic_cast<const ContactModel&>(*contact);
-    StepView v = s.view;
-    v.mesh = &scene.mesh;
-    v.x = v.x_from = &scene.mesh.x;
-    v.moves = false;
-    contact->begin_step(v);
-    for (const ContactRow& r : model.rows()) EXPECT_EQ(r.free, control) << (control ? "with" : "without");
+  NodeToSegment& disc = s.disc;
+  StepView& v = s.view;
+  std::vector<ContactRow> rows;
+  std::vector<std::string> events;
+  disc.rows(v, rows, events);
+  for (const ContactRow& r : rows) EXPECT_FALSE(r.free);
+  v.moves = false;  // an instantaneous solve: a gap of 0.5 mm takes no part
+  disc.rows(v, rows, events);
+  for (const ContactRow& r : rows) {
+    EXPECT_TRUE(r.free);
+    EXPECT_NEAR(r.kin.gap0, 0.5, 1e-12);
   }
 }
