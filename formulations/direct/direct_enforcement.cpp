@@ -30,7 +30,7 @@ const FrictionLaw& DirectEnforcement::law(std::size_t i) const {
 }
 
 double DirectEnforcement::smoothing_speed(std::size_t i) const {
-  return law(i).a_relative * speed_scale_ * smoothing_.factor();
+  return law(i).smoothing_speed(speed_scale_) * smoothing_.factor();
 }
 
 void DirectEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>& rows) {

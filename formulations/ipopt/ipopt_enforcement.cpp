@@ -29,7 +29,7 @@ IpoptEnforcement::IpoptEnforcement(const Scene& scene, CaseSection settings, con
 }
 
 double IpoptEnforcement::smoothing_speed(std::size_t i) const {
-  return disc_.interfaces()[(*rows_)[i].iface].friction.a_relative * speed_scale_;
+  return disc_.interfaces()[(*rows_)[i].iface].friction.smoothing_speed(speed_scale_);
 }
 
 bool IpoptEnforcement::pressing(std::size_t i) const {

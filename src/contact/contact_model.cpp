@@ -65,10 +65,6 @@ StepCheck ContactModel::settle(const StepView& v, const std::vector<Vec2>& vel, 
   StepCheck c = enf_->settle(v, vel, F);
   c.events.insert(c.events.begin(), events_.begin(), events_.end());
   events_.clear();
-  std::vector<char> on(rows_.size());
-  const auto& res = enf_->results();
-  for (std::size_t i = 0; i < rows_.size(); ++i) on[i] = res[i].in_contact;
-  disc_->areas(v, rows_, on, areas_);
   return c;
 }
 
@@ -124,13 +120,11 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
   std::vector<NamedValue> cols;
   columns(&v, cols);
   for (const auto& c : cols) out.columns.push_back(c.value);
+  // The enforcement's own measure (the end-of-step gap), else the rows'
+  // max_penetration_rel column.
   out.penetration_rel = enf_->penetration_rel();
-  if (!out.penetration_rel) {
-    double worst = 0;
-    for (const ContactRow& r : rows_)
-      if (!r.free && r.kin.gap0 < 0) worst = std::max(worst, -r.kin.gap0 / r.h);
-    out.penetration_rel = worst;
-  }
+  for (std::size_t c = 0; c < cols.size() && !out.penetration_rel; ++c)
+    if (cols[c].name == "max_penetration_rel") out.penetration_rel = cols[c].value;
   return out;
 }
 
@@ -168,6 +162,13 @@ void ContactModel::columns(const StepView* v, std::vector<NamedValue>& out) cons
   std::vector<double> normal(nb, 0.0), friction(nb, 0.0);
   std::vector<std::array<Vec2, 2>> side_force(ifaces.size(), {Vec2::Zero(), Vec2::Zero()});
   std::vector<double> area(scene_.dies.size(), 0.0), pressing(scene_.dies.size(), 0.0);
+  // Contact areas over the edges in contact (for the dies' mean pressure).
+  std::vector<RowArea> areas;
+  if (live) {
+    std::vector<char> on(rows_.size());
+    for (std::size_t i = 0; i < rows_.size(); ++i) on[i] = res[i].in_contact;
+    disc_->areas(*v, rows_, on, areas);
+  }
   if (live)
     for (std::size_t i = 0; i < rows_.size(); ++i) {
       const ContactRow& r = rows_[i];
@@ -176,8 +177,7 @@ void ContactModel::columns(const StepView* v, std::vector<NamedValue>& out) cons
       in_contact += res[i].in_contact;
       if (r.kin.gap0 < 0) pen = std::max(pen, -r.kin.gap0), pen_rel = std::max(pen_rel, -r.kin.gap0 / r.h);
       const ContactInterface& f = ifaces[r.iface];
-      if (res[i].in_contact && f.die >= 0 && i < areas_.size())
-        area[f.die] += areas_[i].area, pressing[f.die] += res[i].normal;
+      if (res[i].in_contact && f.die >= 0) area[f.die] += areas[i].area, pressing[f.die] += res[i].normal;
       if (!carries(res[i])) continue;
       const auto F = row_forces(r, res[i]);
       for (int a = 0; a < r.kin.k; ++a) {

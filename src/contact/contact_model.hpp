@@ -58,7 +58,6 @@ class ContactModel final : public ContactFormulation {
   std::unique_ptr<ContactEnforcement> enf_;
   ContactModelSettings settings_;
   std::vector<ContactRow> rows_;
-  std::vector<RowArea> areas_;  // of the last settled solve
   std::vector<std::string> events_;
   std::vector<int> friction_dies_;  // dies with friction: their neutral point is reported
   bool any_bodies_ = false;

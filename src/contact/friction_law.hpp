@@ -17,8 +17,10 @@ struct FrictionLaw {
   Kind kind = Kind::None;
   double m = 0;            // friction factor, 0..1
   double mu = 0;           // Coulomb coefficient
-  double a_relative = 1e-3;  // a = a_relative * (largest die speed of the scene)
+  double a_relative = 1e-3;  // a = a_relative * (largest prescribed speed of the scene)
   std::string describe() const;
+  // The smoothing speed a (mm/s) for the scene's speed scale (mm/s).
+  double smoothing_speed(double speed_scale) const { return a_relative * speed_scale; }
 };
 
 // The dissipation potential of the arctan law per unit tau_max and its

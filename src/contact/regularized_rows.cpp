@@ -88,7 +88,7 @@ void RegularizedRows::set_laws(const StepView& v) {
     l.kind = f.kind;
     l.m = f.m;
     l.mu = f.mu;
-    l.a = f.a_relative * s_.speed_scale;
+    l.a = f.smoothing_speed(s_.speed_scale);
     l.k_weight = area[i].kw;
   }
 }

@@ -48,12 +48,11 @@ RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::array<Ve
   // Friction (paper eq. 11-12).
   if (law.fixed_bound >= 0) {
     out.bound = law.fixed_bound;
-  } else if (law.kind == FrictionLaw::Kind::Factor) {
-    out.bound = law.m * law.k_weight;
-  } else if (law.kind == FrictionLaw::Kind::Coulomb) {
-    const double coulomb = law.mu * std::max(out.normal_force, 0.0);
-    out.bound = std::min(coulomb, law.k_weight);
-    if (out.normal_force > 0 && coulomb < law.k_weight) dB = -law.mu * law.beta;
+  } else {
+    out.bound = friction_bound(FrictionLaw{law.kind, law.m, law.mu}, true, out.normal_force, law.k_weight);
+    // Coulomb below the sticking cap: B = mu N(gamma_N).
+    if (law.kind == FrictionLaw::Kind::Coulomb && out.normal_force > 0 && law.mu * out.normal_force < law.k_weight)
+      dB = -law.mu * law.beta;
   }
   const double energy_bound = law.merit_bound >= 0 ? law.merit_bound : out.bound;
   if (out.bound <= 0 && dB == 0 && energy_bound <= 0) return out;

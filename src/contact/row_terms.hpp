@@ -40,11 +40,12 @@ struct RowLaw {
   double lambda = 0;          // N, the augmented Lagrangian's multiplier
   double inv_dt = 0;          // 1/dt with the gap correction, else 0
   bool one_sided = false;     // only N > 0 (else the two-sided eq. 7)
-  // One-sided, N = 0: still return 1e-6 beta dn dn^T in the Hessian (a
+  // One-sided, N = 0: still return 1e-12 beta dn dn^T in the Hessian (a
   // row in contact lifted by an iterate keeps a body held only by
   // contacts from floating in the Newton matrix; not the exact Hessian,
-  // which slows Newton by about 1e-6 beta / (1e-6 beta + K) per iteration
-  // in that row's direction). At N = 0 with r = lambda / beta exactly (a
+  // which slows Newton by about 1e-12 beta / (1e-12 beta + K) per
+  // iteration in that row's direction: 1e-6 made Test I's Newton linear at
+  // 0.924, docs/notes.md). At N = 0 with r = lambda / beta exactly (a
   // node resting at zero gap at the start) the full beta is used.
   bool keep_stiffness = false;
   FrictionLaw::Kind kind = FrictionLaw::Kind::None;
