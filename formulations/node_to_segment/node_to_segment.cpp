@@ -8,15 +8,6 @@
 
 namespace rpfem {
 
-namespace {
-
-// A node that landed within a step ends it this close to its master (the
-// linearized geometry of the step), relative to the element size: an
-// instantaneous solve counts such a node as touching.
-constexpr double kLandingTolerance = 1e-3;
-
-}  // namespace
-
 NodeToSegment::NodeToSegment(const Scene& scene, CaseSection settings, bool two_pass)
     : scene_(scene), two_pass_(two_pass) {
   switch_tol_ = settings.real("switch_tolerance", 3e-2, Range::positive(),
@@ -132,13 +123,6 @@ void NodeToSegment::add_rows(const StepView& v, int iface, int side,
     // the step, in the midpoint scheme's half-step solve).
     if (v.x_from && v.x_from != v.x)
       set_gap_from(r.kin, x, *v.x_from, v.time, v.time_from, f.die >= 0 ? &scene_.dies[f.die] : nullptr);
-    // An instantaneous solve anticipates no landing: only nodes touching
-    // now (to within what a landing leaves) take part, and only a
-    // penetration is corrected over dt.
-    if (!v.moves) {
-      r.free = r.kin.gap0 > kLandingTolerance * f.h;
-      r.kin.gap_from = std::min(r.kin.gap_from, 0.0);
-    }
     out.push_back(r);
   }
 }

@@ -7,6 +7,8 @@
 // pressures, penetration, the fields of result.h5).
 #pragma once
 #include <memory>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "contact/discretization.hpp"
@@ -59,6 +61,10 @@ class ContactModel final : public ContactFormulation {
   ContactModelSettings settings_;
   std::vector<ContactRow> rows_;
   std::vector<std::string> events_;
+  // The nodes of the rows in contact at the last settled solve (slave and
+  // master), per interface: the band an instantaneous solve counts their
+  // rows touching in.
+  std::set<std::pair<int, Index>> touching_;
   std::vector<int> friction_dies_;  // dies with friction: their neutral point is reported
   bool any_bodies_ = false;
   double sym_tol_ = 0;

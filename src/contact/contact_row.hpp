@@ -46,7 +46,7 @@ struct ContactRow {
   Vec2 gap_normal = Vec2::Zero();
   // An instantaneous solve (StepView::moves false) and the slave clear of
   // its master: the row takes no part in the solve (it stays for landing
-  // control and the gap field).
+  // control and the gap field). Set by ContactModel.
   bool free = false;
 };
 

@@ -1,6 +1,7 @@
 // The node-to-segment discretization (formulations/node_to_segment): the
 // rows against a flat die, their contact areas and sticking bounds k w
-// over the edges in contact, and the two-pass share of friction.
+// over the edges in contact; and the rows an instantaneous solve leaves
+// out (contact/contact_model.hpp), with and without landing control.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -10,6 +11,8 @@
 
 #include "io/case_file.hpp"
 #include "io/scene_reader.hpp"
+#include "contact/contact_model.hpp"
+#include "factory.hpp"
 #include "node_to_segment/node_to_segment.hpp"
 #include "temp_file.hpp"
 
@@ -113,20 +116,83 @@ TEST(NodeToSegment, DieRowsAreasAndStickingBounds) {
   EXPECT_NEAR(area[at9].kw, k * area[at9].area, 1e-9);
 }
 
-TEST(NodeToSegment, InstantaneousSolveFreesRowsClearOfTheirMaster) {
+namespace {
+
+// The rows a contact model of the cylinder's case text holds after its
+// begin_step on the initial configuration.
+std::vector<ContactRow> model_rows(const std::string& text, bool landing_control, bool moves) {
+  CaseFile file(unit::write_temp("nts_model_" + std::to_string(getpid()) + ".toml", text),
+                {std::string("contact.landing_control=") + (landing_control ? "true" : "false")});
+  const Scene scene = read_scene(file);
+  const auto contact = make_contact(file, scene);
+  std::vector<double> flow(scene.mesh.num_elements(), 300.0);
+  StepView v;
+  v.mesh = &scene.mesh;
+  v.x = v.x_from = &scene.mesh.x;
+  v.flow_stress = &flow;
+  v.geometry = scene.geometry;
+  v.dt = 0.1;
+  v.moves = moves;
+  contact->begin_step(v);
+  return dynamic_cast<const ContactModel&>(*contact).rows();
+}
+
+std::string die_at(const std::string& y) {
   std::string text = kCylinder;
-  for (std::size_t at; (at = text.find("y = 10.0")) != std::string::npos;) text.replace(at, 8, "y = 10.5");
-  CylinderScene s(text);
-  NodeToSegment& disc = s.disc;
-  StepView& v = s.view;
-  std::vector<ContactRow> rows;
-  std::vector<std::string> events;
-  disc.rows(v, rows, events);
-  for (const ContactRow& r : rows) EXPECT_FALSE(r.free);
-  v.moves = false;  // an instantaneous solve: a gap of 0.5 mm takes no part
-  disc.rows(v, rows, events);
-  for (const ContactRow& r : rows) {
-    EXPECT_TRUE(r.free);
-    EXPECT_NEAR(r.kin.gap0, 0.5, 1e-12);
+  for (std::size_t at; (at = text.find("y = 10.0\n")) != std::string::npos;) text.replace(at, 9, "y = " + y + "\n");
+  return text;
+}
+
+}  // namespace
+
+TEST(ContactModel, InstantaneousSolveFreesRowsClearOfTheirMaster) {
+  for (const bool control : {true, false}) {
+    for (const ContactRow& r : model_rows(die_at("10.5"), control, true)) EXPECT_FALSE(r.free);
+    // An instantaneous solve: a gap of 0.5 mm takes no part.
+    const auto rows = model_rows(die_at("10.5"), control, false);
+    ASSERT_EQ(rows.size(), 11u);
+    for (const ContactRow& r : rows) {
+      EXPECT_TRUE(r.free);
+      EXPECT_NEAR(r.kin.gap0, 0.5, 1e-12);
+      EXPECT_EQ(r.kin.gap_from, 0.0);  // only a penetration is corrected over dt
+    }
+    // A gap of 1e-4 of the element size: touching within a step's landing
+    // band (1e-3), clear of landing control's (1e-5).
+    for (const ContactRow& r : model_rows(die_at("10.0001"), control, false))
+      EXPECT_EQ(r.free, control) << (control ? "with" : "without");
   }
+}
+
+TEST(ContactModel, RowsInContactKeepTheDriftBand) {
+  // With landing control a slave that was free needs the narrow landing
+  // band (1e-5 h) to take part in an instantaneous solve; one in contact at
+  // the last solve keeps the drift band (1e-3 h), as a step's linearized
+  // geometry leaves it up to that far off its master.
+  CaseFile file(unit::write_temp("nts_drift_" + std::to_string(getpid()) + ".toml", kCylinder),
+                {"run.formulation=penalty", "contact.landing_control=true"});
+  const Scene scene = read_scene(file);
+  const auto contact = make_contact(file, scene);
+  const auto& model = dynamic_cast<const ContactModel&>(*contact);
+  std::vector<double> flow(scene.mesh.num_elements(), 300.0);
+  StepView v;
+  v.mesh = &scene.mesh;
+  v.x = v.x_from = &scene.mesh.x;
+  v.flow_stress = &flow;
+  v.geometry = scene.geometry;
+  v.dt = 0.1;
+  std::vector<Vec2> x = scene.mesh.x;
+  for (Vec2& p : x) p(1) -= 1e-4;  // 1e-4 of the element size below the die
+  StepView lowered = v;
+  lowered.x = lowered.x_from = &x;
+  lowered.moves = false;
+  contact->begin_step(lowered);
+  ASSERT_EQ(model.rows().size(), 11u);
+  for (const ContactRow& r : model.rows()) EXPECT_TRUE(r.free);
+  // The die comes down on the resting billet: every top node presses.
+  const std::vector<Vec2> rest(scene.mesh.x.size(), Vec2::Zero());
+  contact->begin_step(v);
+  contact->settle(v, rest, rest);
+  for (const RowResult& res : model.enforcement().results()) EXPECT_TRUE(res.in_contact);
+  contact->begin_step(lowered);
+  for (const ContactRow& r : model.rows()) EXPECT_FALSE(r.free);
 }
