@@ -59,6 +59,7 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
   auto t0 = std::chrono::steady_clock::now();
   const bool try_llt = choice_ == LinearSolverChoice::Cholmod || (choice_ == LinearSolverChoice::Auto && symmetric);
   ++stats_.factorizations;
+  held_pattern_ = 0;
   if (try_llt) {
     if (impl_->llt_pattern != pattern_version) {
       impl_->llt.analyzePattern(A);
@@ -73,6 +74,7 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
       impl_->use_lu = false;
       stats_.last_solver = "cholmod";
       note_rcond(impl_->llt.rcond());
+      held_pattern_ = pattern_version, held_rows_ = A.rows();
       return true;
     }
     if (choice_ == LinearSolverChoice::Cholmod) {
@@ -98,7 +100,12 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
     return false;
   }
   note_rcond(impl_->lu.rcond());
+  held_pattern_ = pattern_version, held_rows_ = A.rows();
   return true;
+}
+
+bool LinearSolver::holds(std::uint64_t pattern_version, Index rows) const {
+  return held_pattern_ != 0 && held_pattern_ == pattern_version && held_rows_ == rows;
 }
 
 void LinearSolver::note_rcond(double rcond) {

@@ -45,6 +45,9 @@ class LinearSolver {
   // Returns false if A is singular.
   bool factorize(const SpMat& A, bool symmetric, std::uint64_t pattern_version);
   Vec solve(const Vec& b);
+  // Whether a factorization of a matrix with this pattern (and as many
+  // rows as b) is held: the last factorize() of that pattern succeeded.
+  bool holds(std::uint64_t pattern_version, Index rows) const;
   const LinearSolveStats& stats() const { return stats_; }
   void reset_rcond() { stats_.min_rcond = INFINITY; }
 
@@ -54,6 +57,8 @@ class LinearSolver {
   std::unique_ptr<Impl> impl_;
   LinearSolverChoice choice_;
   LinearSolveStats stats_;
+  std::uint64_t held_pattern_ = 0;  // 0: no factorization held
+  Index held_rows_ = 0;
 };
 
 }  // namespace rpfem

@@ -88,7 +88,9 @@ class StepSolver {
 // Verdict after a converged solve.
 struct StepCheck {
   bool resolve = false;                 // contact state changed: solve again
-  // The change is small (multipliers only): the next solve starts on
+  // The change is small (multipliers only: the terms' Hessian is the same
+  // but for rows crossing their kink): the next solve starts with the last
+  // solve's factorization (the chord method, solver/newton.hpp) and then
   // Newton's consistent tangent, without the secant iterations meant for a
   // new configuration or a new contact state.
   bool warm = false;

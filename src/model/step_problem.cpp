@@ -154,6 +154,11 @@ NewtonSystem StepProblem::newton_system() {
     };
   s.residual = [this](const Vec& u, Vec& R, double& scale) { residual(u, R, scale); };
   s.solve = [this](const Vec& u, bool c, const Vec& R, Vec& du) { return solve(u, c, R, du); };
+  s.reuse = [this](const Vec& R, Vec& du) {
+    if (!ws_.linear.holds(ws_.assembler.pattern_version(), R.size())) return false;
+    du = ws_.linear.solve(-R);
+    return true;
+  };
   return s;
 }
 

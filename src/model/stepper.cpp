@@ -235,7 +235,7 @@ NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u
     return r;
   }
   NewtonSettings settings = scene_.solver.newton;
-  if (warm_) settings.direct_iterations = 0;
+  if (warm_) settings.direct_iterations = 0, settings.reuse_factorization = true;
   if (const double t = contact_.tangent().tol_velocity; t > 0) settings.tol_velocity = std::min(settings.tol_velocity, t);
   NewtonResult r = newton_solve(problem.newton_system(), settings, u);
   if (!r.converged) r.reason = "Newton: " + r.reason;

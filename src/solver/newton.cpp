@@ -17,6 +17,9 @@ constexpr double kRoundOffCorrection = 1e-12;
 constexpr double kRoundOffFactor = 100;
 // Energy differences below this fraction of |Pi| are round-off.
 constexpr double kRoundOffEnergy = 1e-12;
+// The chord method (a held factorization) is kept while the corrections
+// shrink at least this fast; beyond it Newton's fresh tangents are cheaper.
+constexpr double kFrozenContraction = 0.25;
 }  // namespace
 
 NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec& u) {
@@ -29,6 +32,8 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
   double energy = sys.energy && !sys.anchor ? sys.energy(u) : 0.0;
   double last_full = -1;  // |du| / |u| of the previous full Newton step; -1: none
   bool cut = false;       // the previous line search cut the step
+  bool chord = s.reuse_factorization && sys.reuse;  // the held factorization is still used
+  double last_chord = -1;  // |du| / |u| of the previous chord step; -1: none
   for (int it = 1; it <= s.max_iterations; ++it) {
     out.iterations = it;
     out.stalled = false;  // of the last iteration only
@@ -38,7 +43,9 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
       return out;
     }
     const bool secant = it <= s.direct_iterations || (s.secant_after_cut && cut);
-    if (!sys.solve(u, !secant, R, du)) {
+    const bool frozen = chord && sys.reuse(R, du);
+    chord = frozen;
+    if (!frozen && !sys.solve(u, !secant, R, du)) {
       out.reason = "tangent matrix is singular";
       return out;
     }
@@ -85,6 +92,12 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
       }
     }
     cut = step < 1.0;
+    // The chord method's contraction theta, and its end (a cut step, or
+    // corrections that shrink too slowly).
+    double theta = -1;
+    if (frozen && last_chord > 0) theta = newton_correction / last_chord;
+    if (frozen && (cut || theta > kFrozenContraction)) chord = false;
+    last_chord = chord ? newton_correction : -1;
     u = trial;
     R = Rtrial;
     if (trial_scale > 0 && std::isfinite(trial_scale)) scale = trial_scale;
@@ -95,10 +108,11 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
     // The error left in u: the next correction, theta times this one for a
     // contraction theta of two full Newton steps (a linear bound; the
     // quadratic rate makes it smaller), else this correction.
-    const bool full_newton = !secant && !cut;
+    const bool full_newton = !frozen && !secant && !cut;
     double error = out.correction;
     if (full_newton && last_full > 0 && newton_correction < 0.5 * last_full)
       error = std::min(error, newton_correction / last_full * out.correction);
+    if (frozen && !cut && theta >= 0 && theta < 0.5) error = std::min(error, theta / (1 - theta) * out.correction);
     last_full = full_newton ? newton_correction : -1;
     if (it > s.direct_iterations && error <= s.tol_velocity && out.residual <= s.tol_force) {
       out.converged = true;

@@ -18,6 +18,9 @@
 // tol_velocity |u|: that error is the next correction, estimated as theta
 // |du| from the contraction theta = |du_k| / |du_k-1| < 1/2 of two
 // successive full Newton steps (Deuflhard 2004, sec. 2.1), else |du| itself.
+// With a held factorization (reuse_factorization) the first iterations are
+// the chord method (the simplified Newton method, Deuflhard 2004, sec.
+// 2.1.4), linear in theta: its error is bounded by theta / (1 - theta) |du|.
 #pragma once
 #include <functional>
 #include <string>
@@ -32,6 +35,11 @@ struct NewtonSettings {
   int max_iterations = 40;
   int direct_iterations = 1;      // at the start of each solve
   bool secant_after_cut = true;   // a secant iteration after a cut line search
+  // Start with the factorization held from the last solve (a re-solve after
+  // a small change of the right-hand side, e.g. the augmented Lagrangian's
+  // multipliers): the chord method while it contracts by at most
+  // kFrozenContraction per iteration and its line search takes full steps.
+  bool reuse_factorization = false;
   double armijo = 1e-4;
   int max_halvings = 12;
 };
@@ -48,6 +56,9 @@ struct NewtonSystem {
   // Assembles the tangent at u (secant if !consistent), factorizes it and
   // solves K du = -R into du; false if the factorization failed.
   std::function<bool(const Vec& u, bool consistent, const Vec& R, Vec& du)> solve;
+  // Solves K du = -R with the factorization of the last solve (of this or
+  // an earlier solve of the same system); false if none is held. Optional.
+  std::function<bool(const Vec& R, Vec& du)> reuse;
 };
 
 struct NewtonResult {

@@ -118,6 +118,19 @@ TEST(NodeToSegment, DieRowsAreasAndStickingBounds) {
 
 namespace {
 
+// A step of 0.1 s from the scene's initial configuration, flow stress 300
+// MPa everywhere (held in flow).
+StepView initial_view(const Scene& scene, std::vector<double>& flow) {
+  flow.assign(scene.mesh.num_elements(), 300.0);
+  StepView v;
+  v.mesh = &scene.mesh;
+  v.x = v.x_from = &scene.mesh.x;
+  v.flow_stress = &flow;
+  v.geometry = scene.geometry;
+  v.dt = 0.1;
+  return v;
+}
+
 // The rows a contact model of the cylinder's case text holds after its
 // begin_step on the initial configuration.
 std::vector<ContactRow> model_rows(const std::string& text, bool landing_control, bool moves) {
@@ -125,13 +138,8 @@ std::vector<ContactRow> model_rows(const std::string& text, bool landing_control
                 {std::string("contact.landing_control=") + (landing_control ? "true" : "false")});
   const Scene scene = read_scene(file);
   const auto contact = make_contact(file, scene);
-  std::vector<double> flow(scene.mesh.num_elements(), 300.0);
-  StepView v;
-  v.mesh = &scene.mesh;
-  v.x = v.x_from = &scene.mesh.x;
-  v.flow_stress = &flow;
-  v.geometry = scene.geometry;
-  v.dt = 0.1;
+  std::vector<double> flow;
+  StepView v = initial_view(scene, flow);
   v.moves = moves;
   contact->begin_step(v);
   return dynamic_cast<const ContactModel&>(*contact).rows();
@@ -173,13 +181,8 @@ TEST(ContactModel, RowsInContactKeepTheDriftBand) {
   const Scene scene = read_scene(file);
   const auto contact = make_contact(file, scene);
   const auto& model = dynamic_cast<const ContactModel&>(*contact);
-  std::vector<double> flow(scene.mesh.num_elements(), 300.0);
-  StepView v;
-  v.mesh = &scene.mesh;
-  v.x = v.x_from = &scene.mesh.x;
-  v.flow_stress = &flow;
-  v.geometry = scene.geometry;
-  v.dt = 0.1;
+  std::vector<double> flow;
+  const StepView v = initial_view(scene, flow);
   std::vector<Vec2> x = scene.mesh.x;
   for (Vec2& p : x) p(1) -= 1e-4;  // 1e-4 of the element size below the die
   StepView lowered = v;
