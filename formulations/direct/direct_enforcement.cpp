@@ -92,8 +92,7 @@ void DirectEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel,
     l.normal = false;
     l.fixed_bound = bound_[i];
     l.a = smoothing_speed(i);
-    const RowTerm t = row_term(k, l, {vel[k.nodes[0]], Vec2::Zero(), Vec2::Zero()}, sink.needs_hessian());
-    sink.add(k.nodes.data(), k.k, t.energy, t.grad.data(), t.hess.data());
+    add_row_term(sink, k, row_term(k, l, vel));
   }
 }
 

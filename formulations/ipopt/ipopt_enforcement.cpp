@@ -76,14 +76,11 @@ void IpoptEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel, 
   for (std::size_t i = 0; i < rows_->size(); ++i) {
     if (!(bound_[i] > 0) || (*rows_)[i].free) continue;
     const PairKinematics& k = (*rows_)[i].kin;
-    std::array<Vec2, 3> v{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
-    for (int a = 0; a < k.k; ++a) v[a] = vel[k.nodes[a]];
     RowLaw l;
     l.normal = false;
     l.fixed_bound = bound_[i];
     l.a = smoothing_speed(i);
-    const RowTerm t = row_term(k, l, v, sink.needs_hessian());
-    sink.add(k.nodes.data(), k.k, t.energy, t.grad.data(), t.hess.data());
+    add_row_term(sink, k, row_term(k, l, vel));
   }
 }
 

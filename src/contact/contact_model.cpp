@@ -10,15 +10,13 @@ namespace rpfem {
 
 namespace {
 
-// The force of a row on each of its nodes: c_a (N n + T t), the reaction
-// of the constraint gamma_N and the friction along gamma_T (their weights
-// on the nodal velocities are c_a n and c_a t).
-std::array<Vec2, 3> row_forces(const ContactRow& r, const RowResult& res) {
+// The force of a row on its node a: c_a (N n + T t), the reaction of the
+// constraint gamma_N and the friction along gamma_T (their weights on the
+// nodal velocities are c_a n and c_a t).
+Vec2 row_force(const ContactRow& r, const RowResult& res, int a) {
+  if (a == 0 && res.slave_force) return *res.slave_force;
   const Vec2 t(-r.kin.n(1), r.kin.n(0));
-  std::array<Vec2, 3> f{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
-  for (int a = 0; a < r.kin.k; ++a) f[a] = r.kin.c[a] * (res.normal * r.kin.n + res.friction * t);
-  if (res.slave_force) f[0] = *res.slave_force;
-  return f;
+  return r.kin.c[a] * (res.normal * r.kin.n + res.friction * t);
 }
 
 bool carries(const RowResult& res) { return res.normal != 0 || res.friction != 0; }
@@ -135,10 +133,9 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
     const Index s = r.kin.nodes[0];
     gap[s] = r.kin.gap0;
     if (!carries(res[i])) continue;
-    const auto f = row_forces(r, res[i]);
-    for (int a = 0; a < r.kin.k; ++a) out.force[r.kin.nodes[a]] += f[a];
+    for (int a = 0; a < r.kin.k; ++a) out.force[r.kin.nodes[a]] += row_force(r, res[i], a);
     const int die = disc_->interfaces()[r.iface].die;
-    if (die >= 0) die_load[die] += f[0], die_nodes[die].push_back(s);
+    if (die >= 0) die_load[die] += row_force(r, res[i], 0), die_nodes[die].push_back(s);
     // Pressure and shear over the slave node's share of the surface.
     if (r.weight > 0) pr[s] += res[i].normal / r.weight, sh[s] += res[i].friction / r.weight;
     if (res[i].in_contact) slip[s] = res[i].slip;
@@ -209,17 +206,19 @@ void ContactModel::columns(const StepView* v, std::vector<NamedValue>& out) cons
       const ContactInterface& f = ifaces[r.iface];
       if (res[i].in_contact && f.die >= 0) area[f.die] += areas[i].area, pressing[f.die] += res[i].normal;
       if (!carries(res[i])) continue;
-      const auto F = row_forces(r, res[i]);
       for (int a = 0; a < r.kin.k; ++a) {
         const int b = scene_.mesh.node_body[r.kin.nodes[a]];
-        resultant[b] += F[a];
-        side_force[r.iface][b == f.bodies[0] ? 0 : 1] += F[a];
+        const Vec2 F = row_force(r, res[i], a);
+        resultant[b] += F;
+        side_force[r.iface][b == f.bodies[0] ? 0 : 1] += F;
       }
+      // The row's normal and friction force act on both sides (the master
+      // body: the interface's other body than the slave's).
       const int bs = scene_.mesh.node_body[r.kin.nodes[0]];
       normal[bs] += res[i].normal;
       friction[bs] += std::abs(res[i].friction);
-      if (r.kin.k == 3) {
-        const int bm = scene_.mesh.node_body[r.kin.nodes[1]];
+      if (f.die < 0) {
+        const int bm = bs == f.bodies[0] ? f.bodies[1] : f.bodies[0];
         normal[bm] += res[i].normal;
         friction[bm] += std::abs(res[i].friction);
       }

@@ -6,7 +6,7 @@ PairKinematics die_pair(const Die& d, Index node, const std::vector<Vec2>& x, do
   const DieProjection proj = d.project(x[node], t);
   PairKinematics k;
   k.k = 1;
-  k.nodes = {node, 0, 0};
+  k.nodes[0] = node;
   k.offset = d.motion.velocity(t);
   k.n = proj.normal;
   k.gap0 = k.gap_from = proj.distance;
@@ -16,8 +16,8 @@ PairKinematics die_pair(const Die& d, Index node, const std::vector<Vec2>& x, do
 PairKinematics segment_pair(Index node, const Edge& e, const SegmentHit& hit) {
   PairKinematics k;
   k.k = 3;
-  k.nodes = {node, e.a, e.b};
-  k.c = {1.0, -(1.0 - hit.xi), -hit.xi};
+  k.nodes[0] = node, k.nodes[1] = e.a, k.nodes[2] = e.b;
+  k.c[0] = 1.0, k.c[1] = -(1.0 - hit.xi), k.c[2] = -hit.xi;
   k.n = hit.normal;
   k.gap0 = k.gap_from = hit.gap;
   return k;
@@ -25,10 +25,9 @@ PairKinematics segment_pair(Index node, const Edge& e, const SegmentHit& hit) {
 
 void set_gap_from(PairKinematics& k, const std::vector<Vec2>& x, const std::vector<Vec2>& x_from, double t,
                   double t_from, const Die* die) {
-  const Index s = k.nodes[0];
-  Vec2 back = x[s] - x_from[s];
+  Vec2 back = Vec2::Zero();
   if (die) back -= die->motion.displacement(t) - die->motion.displacement(t_from);
-  for (int a = 1; a < k.k; ++a) back += k.c[a] * (x[k.nodes[a]] - x_from[k.nodes[a]]);
+  for (int a = 0; a < k.k; ++a) back += k.c[a] * (x[k.nodes[a]] - x_from[k.nodes[a]]);
   k.gap_from = k.gap0 - back.dot(k.n);
 }
 

@@ -1,11 +1,14 @@
-// A slave node against its master, as every contact formulation sees it
+// A slave point against its master, as every contact formulation sees it
 // (paper eq. 5, 9, 12), shared by the formulations (the kernel does not use
-// it): a segment of another body (3 nodes) or a rigid die (1 node).
-//
-// Relative velocity of the slave node to the master surface at xi (master
-// velocity interpolated linearly on the segment):
-//   u = v_s - (1 - xi) v_a - xi v_b      (body master)
+// it): the relative velocity as weights c_a on the velocities of the row's
+// nodes (the slave node first, then the master's; each node once):
+//   u = sum_a c_a v_a - offset
+// A node against a segment of another body (3 nodes) or a rigid die (1
+// node, offset the die's velocity):
+//   u = v_s - (1 - xi) v_a - xi v_b      (body master at xi)
 //   u = v_s - v_die                      (die master)
+// A mortar row (formulations/mortar): the slave node against every master
+// node its dual shape function's support overlaps, c = (1, -M_jl / D_j).
 //   gamma_N = u . n   (gap rate; paper eq. 5 with the opposite sign: > 0 opens)
 //   gamma_T = u . t,  t = (-n_y, n_x)
 // and the gap at the end of a step of length dt, linearized in the
@@ -22,14 +25,28 @@
 
 namespace rpfem {
 
+// The most nodes a row couples (a mortar row on a master surface four times
+// finer than its slave's).
+constexpr int kMaxRowNodes = 12;
+
 struct PairKinematics {
-  int k = 1;                        // nodes: slave, then master a, b
-  std::array<Index, 3> nodes{};     // mesh node ids
-  std::array<double, 3> c{1, 0, 0}; // u = sum_a c_a v_a - offset
+  int k = 1;                                  // nodes: slave, then its master's
+  std::array<Index, kMaxRowNodes> nodes{};    // mesh node ids
+  std::array<double, kMaxRowNodes> c{1};      // u = sum_a c_a v_a - offset
   Vec2 offset = Vec2::Zero();       // die velocity (die master), mm/s
   Vec2 n = Vec2::Zero();            // unit master outward normal
   double gap0 = 0;                  // mm, in the configuration solved on
   double gap_from = 0;              // mm, where the velocity moves the nodes from
+
+  // Adds weight w to node `node` (a new node at the end); false when the
+  // row is full.
+  bool add(Index node, double w) {
+    for (int a = 0; a < k; ++a)
+      if (nodes[a] == node) return c[a] += w, true;
+    if (k == kMaxRowNodes) return false;
+    nodes[k] = node, c[k] = w, ++k;
+    return true;
+  }
 };
 
 // Node `node` at x[node] against die d at time t.

@@ -93,10 +93,8 @@ void RegularizedRows::set_laws(const StepView& v) {
   }
 }
 
-RowTerm RegularizedRows::evaluate(std::size_t i, const std::vector<Vec2>& vel, bool hess) const {
+RowTerm RegularizedRows::evaluate(std::size_t i, const std::vector<Vec2>& vel) const {
   const ContactRow& r = (*rows_)[i];
-  std::array<Vec2, 3> v{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
-  for (int a = 0; a < r.kin.k; ++a) v[a] = vel[r.kin.nodes[a]];
   RowLaw law = laws_[i];
   law.a *= smoothing_.factor();
   law.merit_bound = merit_bound_[i];
@@ -107,7 +105,7 @@ RowTerm RegularizedRows::evaluate(std::size_t i, const std::vector<Vec2>& vel, b
   // A row in contact keeps its normal stiffness in the Newton matrix when
   // an iterate lifts it off (a body held only by contacts would float).
   law.keep_stiffness = active_[i];
-  return row_term(r.kin, law, v, hess);
+  return row_term(r.kin, law, vel);
 }
 
 double RegularizedRows::end_gap_rate(std::size_t i, const std::vector<Vec2>& vel) const {
@@ -117,15 +115,14 @@ double RegularizedRows::end_gap_rate(std::size_t i, const std::vector<Vec2>& vel
 void RegularizedRows::add_terms(const std::vector<Vec2>& vel, TermSink& sink) const {
   for (std::size_t i = 0; i < rows_->size(); ++i) {
     if (!engaged(i)) continue;
-    const RowTerm t = evaluate(i, vel, sink.needs_hessian());
-    sink.add((*rows_)[i].kin.nodes.data(), (*rows_)[i].kin.k, t.energy, t.grad.data(), t.hess.data());
+    add_row_term(sink, (*rows_)[i].kin, evaluate(i, vel));
   }
 }
 
 void RegularizedRows::anchor_merit(const std::vector<Vec2>& vel) {
   for (std::size_t i = 0; i < rows_->size(); ++i) {
     merit_bound_[i] = -1;
-    if (engaged(i)) merit_bound_[i] = evaluate(i, vel, false).bound;
+    if (engaged(i)) merit_bound_[i] = evaluate(i, vel).bound;
   }
 }
 
@@ -150,7 +147,7 @@ void RegularizedRows::settle_one_sided(const StepView& v, const std::vector<Vec2
   const auto& ifaces = disc_.interfaces();
   bool changed = false;
   for (std::size_t i = 0; i < rows_->size(); ++i) {
-    res_[i] = (*rows_)[i].free ? RowTerm{} : evaluate(i, vel, false);
+    res_[i] = (*rows_)[i].free ? RowTerm{} : evaluate(i, vel);
     const bool pressing = res_[i].normal_force > 0;
     if (pressing != static_cast<bool>(active_[i]) && !changed_[i]) {
       active_[i] = pressing;
@@ -158,7 +155,7 @@ void RegularizedRows::settle_one_sided(const StepView& v, const std::vector<Vec2
       changed = changed || laws_[i].kind != FrictionLaw::Kind::None;
       out.events.push_back((pressing ? "touch " : "release ") + node_text(i) + (pressing ? " on " : " from ") +
                            ifaces[(*rows_)[i].iface].name);
-      if (changed) res_[i] = evaluate(i, vel, false);
+      if (changed) res_[i] = evaluate(i, vel);
     }
   }
   if (changed) {
@@ -171,7 +168,7 @@ void RegularizedRows::settle_two_sided(const StepView& v, const std::vector<Vec2
   const auto& ifaces = disc_.interfaces();
   double scale = 0;
   for (std::size_t i = 0; i < rows_->size(); ++i) {
-    res_[i] = active_[i] ? evaluate(i, vel, false) : RowTerm{};
+    res_[i] = active_[i] ? evaluate(i, vel) : RowTerm{};
     scale = std::max(scale, std::abs(res_[i].normal_force));
   }
   bool changed = false;

@@ -71,7 +71,7 @@ class RegularizedRows {
  private:
   bool one_sided() const { return s_.gap_correction; }
   void set_laws(const StepView& v);
-  RowTerm evaluate(std::size_t i, const std::vector<Vec2>& vel, bool hess) const;
+  RowTerm evaluate(std::size_t i, const std::vector<Vec2>& vel) const;
   void settle_one_sided(const StepView& v, const std::vector<Vec2>& vel, StepCheck& out);
   void settle_two_sided(const StepView& v, const std::vector<Vec2>& vel, StepCheck& out);
   std::string node_text(std::size_t i) const;

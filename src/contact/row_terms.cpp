@@ -14,16 +14,11 @@ double friction_bound(const FrictionLaw& law, bool in_contact, double N, double 
   return 0;
 }
 
-RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::array<Vec2, 3>& v, bool want_hess) {
+RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::vector<Vec2>& vel) {
   RowTerm out;
-  const int nd = 2 * p.k;
   const Vec2 t(-p.n(1), p.n(0));
   Vec2 u = -p.offset;
-  for (int a = 0; a < p.k; ++a) u += p.c[a] * v[a];
-  // d gamma_N / dV = c (x) n,  d gamma_T / dV = c (x) t.
-  std::array<double, 6> dn{}, dt{};
-  for (int a = 0; a < p.k; ++a)
-    for (int i = 0; i < 2; ++i) dn[2 * a + i] = p.c[a] * p.n(i), dt[2 * a + i] = p.c[a] * t(i);
+  for (int a = 0; a < p.k; ++a) u += p.c[a] * vel[p.nodes[a]];
   out.gamma_n = u.dot(p.n);
   out.gamma_t = u.dot(t);
 
@@ -36,13 +31,10 @@ RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::array<Ve
     if (pressing) {
       out.normal_force = -law.beta * shifted;
       out.energy = 0.5 * law.beta * shifted * shifted;
-      for (int i = 0; i < nd; ++i) out.grad[i] = law.beta * shifted * dn[i];
+      out.dE_dn = law.beta * shifted;
     }
     constexpr double kLifted = 1e-12;  // RowLaw::keep_stiffness
-    const double k = pressing || shifted == 0 ? law.beta : law.keep_stiffness ? kLifted * law.beta : 0.0;
-    if (want_hess && k > 0)
-      for (int j = 0; j < nd; ++j)
-        for (int i = 0; i < nd; ++i) out.hess[j * nd + i] = k * dn[i] * dn[j];
+    out.H_nn = pressing || shifted == 0 ? law.beta : law.keep_stiffness ? kLifted * law.beta : 0.0;
   }
 
   // Friction (paper eq. 11-12).
@@ -59,12 +51,32 @@ RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::array<Ve
   const ArctanPotential f = arctan_potential(out.gamma_t, law.a);
   out.energy += energy_bound * f.psi;
   out.friction = -out.bound * f.dpsi;
-  for (int i = 0; i < nd; ++i) out.grad[i] += out.bound * f.dpsi * dt[i];
-  if (want_hess)
-    for (int j = 0; j < nd; ++j)
-      for (int i = 0; i < nd; ++i)
-        out.hess[j * nd + i] += out.bound * f.d2psi * (dt[i] * dt[j]) + f.dpsi * dt[i] * dB * dn[j];
+  out.dE_dt = out.bound * f.dpsi;
+  out.H_tt = out.bound * f.d2psi;
+  out.H_tn = f.dpsi * dB;
   return out;
+}
+
+void expand(const PairKinematics& p, const RowTerm& t, double* grad, double* hess) {
+  const int nd = 2 * p.k;
+  const Vec2 tan(-p.n(1), p.n(0));
+  // d gamma_N / dV = c (x) n,  d gamma_T / dV = c (x) t.
+  std::array<double, 2 * kMaxRowNodes> dn, dt;
+  for (int a = 0; a < p.k; ++a)
+    for (int i = 0; i < 2; ++i) dn[2 * a + i] = p.c[a] * p.n(i), dt[2 * a + i] = p.c[a] * tan(i);
+  for (int i = 0; i < nd; ++i) grad[i] = t.dE_dn * dn[i] + t.dE_dt * dt[i];
+  if (!hess) return;
+  for (int j = 0; j < nd; ++j)
+    for (int i = 0; i < nd; ++i)
+      hess[j * nd + i] = t.H_nn * (dn[i] * dn[j]) + t.H_tt * (dt[i] * dt[j]) + t.H_tn * (dt[i] * dn[j]);
+}
+
+void add_row_term(TermSink& sink, const PairKinematics& p, const RowTerm& t) {
+  std::array<double, 2 * kMaxRowNodes> grad;
+  std::array<double, 4 * kMaxRowNodes * kMaxRowNodes> hess;
+  const bool h = sink.needs_hessian();
+  expand(p, t, grad.data(), h ? hess.data() : nullptr);
+  sink.add(p.nodes.data(), p.k, t.energy, grad.data(), hess.data());
 }
 
 }  // namespace rpfem

@@ -31,6 +31,7 @@
 #include "contact/friction_law.hpp"
 #include "contact/pair_kinematics.hpp"
 #include "core/types.hpp"
+#include "model/contact_formulation.hpp"
 
 namespace rpfem {
 
@@ -58,18 +59,31 @@ struct RowLaw {
   double merit_bound = -1;
 };
 
+// A row's term depends on the velocities V of its nodes only through
+// gamma_N and gamma_T, whose gradients are dn = c (x) n and dt = c (x) t:
+//   dE/dV   = dE_dn dn + dE_dt dt
+//   d2E/dV2 = H_nn dn dn^T + H_tt dt dt^T + H_tn dt dn^T
+// (H_tn: Coulomb's live bound, the unsymmetric block). expand() writes
+// them out over the row's nodes.
 struct RowTerm {
   double energy = 0;
-  std::array<double, 6> grad{};      // dE/dV, V = (v_s, v_a, v_b) stacked
-  std::array<double, 36> hess{};     // column-major, 2k x 2k used
+  double dE_dn = 0, dE_dt = 0;       // N
+  double H_nn = 0, H_tt = 0, H_tn = 0;  // N s/mm
   double normal_force = 0;           // N, > 0 pressing
   double bound = 0;                  // N, friction bound B
   double friction = 0;               // N, friction force on the slave along t
   double gamma_n = 0, gamma_t = 0;   // mm/s
 };
 
-// want_hess: fill the Hessian (else left zero).
-RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::array<Vec2, 3>& v, bool want_hess);
+// The term at the nodal velocities vel (all nodes; the row reads its own).
+RowTerm row_term(const PairKinematics& p, const RowLaw& law, const std::vector<Vec2>& vel);
+
+// The gradient (2k) and, if hess is not null, the Hessian (2k x 2k,
+// column-major) over the row's nodes, V = (v_0, v_1, ...) stacked.
+void expand(const PairKinematics& p, const RowTerm& t, double* grad, double* hess);
+
+// Adds the row's term to a sink (its Hessian only if the sink needs it).
+void add_row_term(TermSink& sink, const PairKinematics& p, const RowTerm& t);
 
 // The bound of the law for a row in contact pressing with N (N) under the
 // sticking bound kw (N); 0 for a row not in contact.

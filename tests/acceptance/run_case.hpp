@@ -1,5 +1,6 @@
 // Running a shipped case from an acceptance test: one output folder per test
-// (ctest runs tests in parallel), the exit code checked.
+// (ctest runs tests in parallel; suite and test name, as two suites may
+// name a test alike), the exit code checked.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -15,7 +16,7 @@ namespace rpfem::accept {
 inline std::string test_out_dir(const std::string& suffix = "") {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   const std::string out = (std::filesystem::temp_directory_path() /
-                           ("rpfem_accept_" + std::string(info->name()) + suffix))
+                           ("rpfem_accept_" + std::string(info->test_suite_name()) + "." + info->name() + suffix))
                               .string();
   std::filesystem::remove_all(out);
   return out;

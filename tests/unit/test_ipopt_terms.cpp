@@ -7,16 +7,17 @@
 #include <cmath>
 
 #include "contact/row_terms.hpp"
+#include "dense_row_term.hpp"
 
 using namespace rpfem;
 
 namespace {
-RowTerm friction_term(const PairKinematics& k, double B, double a, const std::array<Vec2, 3>& v) {
+unit::DenseRowTerm friction_term(const PairKinematics& k, double B, double a, const std::array<Vec2, 3>& v) {
   RowLaw l;
   l.normal = false;
   l.fixed_bound = B;
   l.a = a;
-  return row_term(k, l, v, true);
+  return unit::dense_row_term(k, l, v);
 }
 }  // namespace
 
@@ -29,13 +30,13 @@ TEST(IpoptFriction, TermIsAPotentialWithExactHessian) {
   const double B = 40, a = 0.01;
   for (double slip : {-0.3, -0.004, 0.0, 0.002, 0.5}) {
     const std::array<Vec2, 3> v{Vec2(slip, -0.5), Vec2(0.0, 0.2), Vec2(0.01, 0.1)};
-    const RowTerm t = friction_term(k, B, a, v);
+    const unit::DenseRowTerm t = friction_term(k, B, a, v);
     for (int j = 0; j < 6; ++j) {
       const double h = 1e-7;
       auto vp = v, vm = v;
       vp[j / 2](j % 2) += h;
       vm[j / 2](j % 2) -= h;
-      const RowTerm p = friction_term(k, B, a, vp), m = friction_term(k, B, a, vm);
+      const unit::DenseRowTerm p = friction_term(k, B, a, vp), m = friction_term(k, B, a, vm);
       EXPECT_NEAR(t.grad[j], (p.energy - m.energy) / (2 * h), 1e-5 * (1 + std::abs(t.grad[j]))) << j;
       for (int i = 0; i < 6; ++i) {
         const double fd = (p.grad[i] - m.grad[i]) / (2 * h);

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "contact/row_terms.hpp"
+#include "dense_row_term.hpp"
 #include "node_to_segment/roles.hpp"
 
 using namespace rpfem;
@@ -36,14 +37,14 @@ RowLaw law(FrictionLaw::Kind kind) {
 }
 
 void check_derivatives(const PairKinematics& k, const RowLaw& l, const std::array<Vec2, 3>& v, bool potential) {
-  const RowTerm r = row_term(k, l, v, true);
+  const unit::DenseRowTerm r = unit::dense_row_term(k, l, v);
   const int nd = 2 * k.k;
   for (int j = 0; j < nd; ++j) {
     const double h = 1e-7;
     auto vp = v, vm = v;
     vp[j / 2](j % 2) += h;
     vm[j / 2](j % 2) -= h;
-    const RowTerm rp = row_term(k, l, vp, false), rm = row_term(k, l, vm, false);
+    const unit::DenseRowTerm rp = unit::dense_row_term(k, l, vp), rm = unit::dense_row_term(k, l, vm);
     if (potential) EXPECT_NEAR(r.grad[j], (rp.energy - rm.energy) / (2 * h), 1e-5 * (1 + std::abs(r.grad[j]))) << j;
     for (int i = 0; i < nd; ++i) {
       const double fd = (rp.grad[i] - rm.grad[i]) / (2 * h);
@@ -78,7 +79,7 @@ TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
   const std::array<Vec2, 3>& v = kSliding;
   const PairKinematics k = body_pair();
   const RowLaw l = coulomb_below_cap();
-  const RowTerm r = row_term(k, l, v, true);
+  const unit::DenseRowTerm r = unit::dense_row_term(k, l, v);
   ASSERT_GT(r.normal_force, 0);                        // pressing
   ASSERT_LT(l.mu * r.normal_force, l.k_weight);        // below the sticking cap: B = mu N
   EXPECT_NEAR(r.bound, l.mu * r.normal_force, 1e-12);
@@ -90,7 +91,7 @@ TEST(PenaltyPair, CoulombTangentIsConsistentAndUnsymmetric) {
   // Capped at k w: B no longer depends on N, the tangent is symmetric again.
   RowLaw capped = l;
   capped.k_weight = 1e-3;
-  const RowTerm c = row_term(k, capped, v, true);
+  const unit::DenseRowTerm c = unit::dense_row_term(k, capped, v);
   EXPECT_NEAR(c.bound, 1e-3, 1e-15);
   check_derivatives(k, capped, v, true);
 }
@@ -103,11 +104,11 @@ TEST(PenaltyPair, CoulombMeritAnchoredAtAnIterateHasTheResidualAsGradient) {
   const std::array<Vec2, 3>& v0 = kSliding;
   const PairKinematics k = body_pair();
   const RowLaw l = coulomb_below_cap();
-  const RowTerm live = row_term(k, l, v0, true);
+  const unit::DenseRowTerm live = unit::dense_row_term(k, l, v0);
   ASSERT_GT(live.bound, 0);
   RowLaw anchored = l;
   anchored.merit_bound = live.bound;
-  const RowTerm r = row_term(k, anchored, v0, true);
+  const unit::DenseRowTerm r = unit::dense_row_term(k, anchored, v0);
   double grad_error = 0, live_fd_error = 0;
   for (int j = 0; j < 6; ++j) {
     EXPECT_EQ(r.grad[j], live.grad[j]);
@@ -116,8 +117,8 @@ TEST(PenaltyPair, CoulombMeritAnchoredAtAnIterateHasTheResidualAsGradient) {
     auto vp = v0, vm = v0;
     vp[j / 2](j % 2) += h;
     vm[j / 2](j % 2) -= h;
-    const double fd = (row_term(k, anchored, vp, false).energy - row_term(k, anchored, vm, false).energy) / (2 * h);
-    const double fd_live = (row_term(k, l, vp, false).energy - row_term(k, l, vm, false).energy) / (2 * h);
+    const double fd = (unit::dense_row_term(k, anchored, vp).energy - unit::dense_row_term(k, anchored, vm).energy) / (2 * h);
+    const double fd_live = (unit::dense_row_term(k, l, vp).energy - unit::dense_row_term(k, l, vm).energy) / (2 * h);
     grad_error = std::max(grad_error, std::abs(fd - r.grad[j]) / (1 + std::abs(r.grad[j])));
     live_fd_error = std::max(live_fd_error, std::abs(fd_live - r.grad[j]) / (1 + std::abs(r.grad[j])));
   }
@@ -128,7 +129,7 @@ TEST(PenaltyPair, CoulombMeritAnchoredAtAnIterateHasTheResidualAsGradient) {
 
 TEST(PenaltyPair, ActionEqualsReaction) {
   const std::array<Vec2, 3> v{Vec2(0.2, -0.5), Vec2(0.01, 0.2), Vec2(-0.03, 0.1)};
-  const RowTerm r = row_term(body_pair(), law(FrictionLaw::Kind::Coulomb), v, false);
+  const unit::DenseRowTerm r = unit::dense_row_term(body_pair(), law(FrictionLaw::Kind::Coulomb), v);
   Vec2 sum = Vec2::Zero();
   for (int a = 0; a < 3; ++a) sum += Vec2(r.grad[2 * a], r.grad[2 * a + 1]);
   EXPECT_LT(sum.norm(), 1e-12 * Vec2(r.grad[0], r.grad[1]).norm());
@@ -144,7 +145,7 @@ TEST(PenaltyPair, GapCorrectionAimsAtZeroGapAtTheEndOfTheStep) {
   k.gap0 = k.gap_from = -0.01;
   RowLaw l = law(FrictionLaw::Kind::None);
   // r = (v - v_die).n + g0/dt = 0 at v_y = -1 + 0.01 * 10.
-  const RowTerm r = row_term(k, l, {Vec2(0, -0.9), Vec2::Zero(), Vec2::Zero()}, false);
+  const unit::DenseRowTerm r = unit::dense_row_term(k, l, {Vec2(0, -0.9), Vec2::Zero(), Vec2::Zero()});
   EXPECT_NEAR(r.gamma_n, 0.1, 1e-15);
   EXPECT_NEAR(r.normal_force, 0.0, 1e-12);
 }
@@ -158,14 +159,14 @@ TEST(PenaltyPair, OneSidedPenaltyActsOnlyOnPredictedPenetration) {
   k.gap0 = k.gap_from = 0.01;
   RowLaw l = law(FrictionLaw::Kind::None);
   l.one_sided = true;
-  const auto at = [&](double vy) { return row_term(k, l, {Vec2(0.3, vy), Vec2::Zero(), Vec2::Zero()}, true); };
+  const auto at = [&](double vy) { return unit::dense_row_term(k, l, {Vec2(0.3, vy), Vec2::Zero(), Vec2::Zero()}); };
   // Would stop short: no force, no stiffness.
-  const RowTerm free = at(-0.05);
+  const unit::DenseRowTerm free = at(-0.05);
   EXPECT_EQ(free.normal_force, 0.0);
   EXPECT_EQ(free.energy, 0.0);
   for (double h : free.hess) EXPECT_EQ(h, 0.0);
   // Would end 0.02 mm inside: pushed out, N = -beta r with r = -0.3 + 0.1.
-  const RowTerm in = at(-0.3);
+  const unit::DenseRowTerm in = at(-0.3);
   EXPECT_NEAR(in.normal_force, l.beta * 0.2, 1e-9);
   // Derivatives exact on each side of the kink, continuous force across it.
   check_derivatives(k, l, {Vec2(0.3, -0.3), Vec2::Zero(), Vec2::Zero()}, true);
@@ -175,7 +176,7 @@ TEST(PenaltyPair, OneSidedPenaltyActsOnlyOnPredictedPenetration) {
   PairKinematics b = body_pair();
   b.gap0 = b.gap_from = 0.01;
   check_derivatives(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}, true);
-  EXPECT_GT(row_term(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}, false).normal_force, 0.0);
+  EXPECT_GT(unit::dense_row_term(b, l, {Vec2(0.1, -0.5), Vec2(0.05, 0.2), Vec2(-0.1, 0.1)}).normal_force, 0.0);
 }
 
 TEST(HallquistRule, TheBodyThatPenetratesBecomesTheSlave) {
