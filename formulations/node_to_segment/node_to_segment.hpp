@@ -12,15 +12,13 @@
 // is exact; one pass and two pass coincide). Rows of an instantaneous solve
 // (StepView::moves false) whose slave is clear of its master by more than
 // what a landing leaves are `free`: they take no part in the solve.
-// Contact areas (areas()): the lumped weights of the slave's surface edges
-// whose both ends are in contact (fem/edge_weights.hpp), the sticking
-// bound k w with k the shear yield stress sigma_bar / sqrt 3 of the
-// slave's edge element, or of the master element if smaller.
+// Interfaces, die rows and contact areas: contact/contact_surfaces.hpp.
 #pragma once
 #include <array>
 #include <string>
 #include <vector>
 
+#include "contact/contact_surfaces.hpp"
 #include "contact/discretization.hpp"
 #include "contact/segment_search.hpp"
 #include "io/case_file.hpp"
@@ -32,15 +30,16 @@ class NodeToSegment final : public ContactDiscretization {
  public:
   NodeToSegment(const Scene& scene, CaseSection settings, bool two_pass);
   std::string name() const override { return two_pass_ ? "two_pass" : "node_to_segment"; }
-  const std::vector<ContactInterface>& interfaces() const override { return ifaces_; }
+  const std::vector<ContactInterface>& interfaces() const override { return surfaces_.interfaces(); }
   void rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>& events) override;
   void areas(const StepView& v, const std::vector<ContactRow>& rows, const std::vector<char>& in_contact,
-             std::vector<RowArea>& out) const override;
+             std::vector<RowArea>& out) const override {
+    surfaces_.areas(v, rows, in_contact, out);
+  }
   void columns(std::vector<NamedValue>& out) const override;
 
  private:
-  struct Sides {
-    std::array<ContactSurface, 2> side;  // side[1] empty for a die
+  struct Roles {
     int slave = 0;                       // one pass: the slave side
     double switch_guard = 0;             // mm, the master penetration that made the last switch
     int switched_step = -1;              // the step of the last switch (at most one per step)
@@ -49,9 +48,9 @@ class NodeToSegment final : public ContactDiscretization {
                 std::vector<ContactRow>& out) const;
 
   const Scene& scene_;
-  std::vector<ContactInterface> ifaces_;
-  std::vector<Sides> sides_;
-  bool two_pass_ = false, any_bodies_ = false;
+  ContactSurfaces surfaces_;
+  std::vector<Roles> roles_;
+  bool two_pass_ = false;
   double switch_tol_ = 0, capture_ = 0;
   double master_penetration_ = 0;
   int role_switches_ = 0;

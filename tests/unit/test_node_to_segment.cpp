@@ -14,6 +14,7 @@
 #include "contact/contact_model.hpp"
 #include "factory.hpp"
 #include "node_to_segment/node_to_segment.hpp"
+#include "initial_view.hpp"
 #include "temp_file.hpp"
 
 using namespace rpfem;
@@ -118,19 +119,6 @@ TEST(NodeToSegment, DieRowsAreasAndStickingBounds) {
 
 namespace {
 
-// A step of 0.1 s from the scene's initial configuration, flow stress 300
-// MPa everywhere (held in flow).
-StepView initial_view(const Scene& scene, std::vector<double>& flow) {
-  flow.assign(scene.mesh.num_elements(), 300.0);
-  StepView v;
-  v.mesh = &scene.mesh;
-  v.x = v.x_from = &scene.mesh.x;
-  v.flow_stress = &flow;
-  v.geometry = scene.geometry;
-  v.dt = 0.1;
-  return v;
-}
-
 // The rows a contact model of the cylinder's case text holds after its
 // begin_step on the initial configuration.
 std::vector<ContactRow> model_rows(const std::string& text, bool landing_control, bool moves) {
@@ -139,7 +127,7 @@ std::vector<ContactRow> model_rows(const std::string& text, bool landing_control
   const Scene scene = read_scene(file);
   const auto contact = make_contact(file, scene);
   std::vector<double> flow;
-  StepView v = initial_view(scene, flow);
+  StepView v = unit::initial_view(scene, flow);
   v.moves = moves;
   contact->begin_step(v);
   return dynamic_cast<const ContactModel&>(*contact).rows();
@@ -182,7 +170,7 @@ TEST(ContactModel, RowsInContactKeepTheDriftBand) {
   const auto contact = make_contact(file, scene);
   const auto& model = dynamic_cast<const ContactModel&>(*contact);
   std::vector<double> flow;
-  const StepView v = initial_view(scene, flow);
+  const StepView v = unit::initial_view(scene, flow);
   std::vector<Vec2> x = scene.mesh.x;
   for (Vec2& p : x) p(1) -= 1e-4;  // 1e-4 of the element size below the die
   StepView lowered = v;

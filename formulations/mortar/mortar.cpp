@@ -1,0 +1,128 @@
+#include "mortar/mortar.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "mortar/mortar_integrals.hpp"
+
+namespace rpfem {
+
+Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfaces_(scene) {
+  capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
+  // The slave of each interface between bodies: the finer surface, each
+  // pair's body, or its other (`with`) body.
+  const std::string slave = settings.text("slave", "finer", {"finer", "body", "with"});
+  for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i)
+    slave_.push_back(slave == "finer" ? surfaces_.finer(i) : slave == "body" ? 0 : 1);
+  settings.ignore("switch_tolerance");  // node-to-segment's role switching
+}
+
+void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>&) {
+  out.clear();
+  for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) {
+    if (surfaces_.interfaces()[i].die >= 0) surfaces_.add_die_rows(v, i, out);
+    else add_rows(v, i, out);
+  }
+}
+
+namespace {
+
+// A slave node's row as it accumulates: D_jk over slave nodes k, M_jL over
+// master nodes L, the master element it overlaps most.
+struct RowSums {
+  std::map<Index, double> D, M;
+  std::map<Index, double> element_share;  // master element -> sum of M over it
+};
+
+}  // namespace
+
+void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out) const {
+  const ContactInterface& f = surfaces_.interfaces()[iface];
+  const int s = slave_[iface];
+  const ContactSurface& S = surfaces_.side(iface, s);
+  const ContactSurface& Mst = surfaces_.side(iface, 1 - s);
+  const auto& x = *v.x;
+  const double capture = capture_ * f.h;
+  const std::vector<Vec2> normal = node_normals(x, S);
+  const SegmentGrid grid(x, Mst, capture);
+  std::vector<RowSums> sums(S.nodes.size());
+  std::vector<int> candidates, seen;
+  for (const Edge& e : S.edges) {
+    const int a = S.local(e.a), b = S.local(e.b);
+    const Vec2 &xa = x[e.a], &xb = x[e.b];
+    // Master edges near the slave edge: the grid's candidates at points
+    // along it no farther apart than the capture distance.
+    const double L = (xb - xa).norm();
+    const int samples = 1 + static_cast<int>(std::ceil(L / capture));
+    seen.clear();
+    for (int q = 0; q <= samples; ++q) {
+      grid.candidates(xa + (xb - xa) * (double(q) / samples), candidates);
+      seen.insert(seen.end(), candidates.begin(), candidates.end());
+    }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    const Vec2 slave_out = Vec2(xb(1) - xa(1), xa(0) - xb(0)).normalized();  // the body on the left
+    for (const int m : seen) {
+      const Edge& me = Mst.edges[m];
+      const Vec2 &xA = x[me.a], &xB = x[me.b];
+      const Vec2 master_out = Vec2(xB(1) - xA(1), xA(0) - xB(0)).normalized();
+      if (master_out.dot(slave_out) >= 0) continue;  // the master edge does not face the slave
+      const auto piece = mortar_piece(xa, xb, normal[a], normal[b], xA, xB);
+      if (!piece) continue;
+      // Within reach: the gap at the piece's middle along the slave normal.
+      const double xi = 0.5 * (piece->xi0 + piece->xi1), eta = 0.5 * (piece->eta0 + piece->eta1);
+      const Vec2 ps = xa + xi * (xb - xa), pm = xA + eta * (xB - xA);
+      if (std::abs((pm - ps).dot(((1 - xi) * normal[a] + xi * normal[b]).normalized())) > capture) continue;
+      std::array<std::array<double, 2>, 2> D{}, M{};
+      integrate_piece(xa, xb, v.geometry, *piece, D, M);
+      const std::array<int, 2> local{a, b};
+      const std::array<Index, 2> snode{e.a, e.b}, mnode{me.a, me.b};
+      for (int k = 0; k < 2; ++k) {
+        RowSums& r = sums[local[k]];
+        for (int l = 0; l < 2; ++l) {
+          r.D[snode[l]] += D[k][l];
+          r.M[mnode[l]] += M[k][l];
+          r.element_share[me.element] += M[k][l];
+        }
+      }
+    }
+  }
+  std::vector<double> w_full, h;
+  surfaces_.node_sizes(x, S, v.geometry, f.h, w_full, h);
+  for (std::size_t j = 0; j < S.nodes.size(); ++j) {
+    const RowSums& r = sums[j];
+    double W = 0;
+    for (const auto& [node, d] : r.D) W += d;
+    // A node no master edge faces (or one faced by a sliver of an edge,
+    // whose coefficients would be round-off) has no row.
+    if (!(W > 1e-12 * w_full[j])) continue;
+    ContactRow row;
+    row.iface = iface;
+    row.key = S.nodes[j];
+    row.weight = W;
+    row.h = h[j];
+    row.kin.k = 1;
+    row.kin.nodes[0] = S.nodes[j];
+    row.kin.c[0] = 0;
+    bool fits = true;
+    for (const auto& [node, d] : r.D) fits = fits && row.kin.add(node, d / W);
+    for (const auto& [node, m] : r.M) fits = fits && row.kin.add(node, -m / W);
+    if (!fits)
+      throw std::runtime_error("mortar: the row of node " + std::to_string(S.nodes[j]) + " on " + f.name +
+                               " couples more than " + std::to_string(kMaxRowNodes) +
+                               " nodes (a master surface far finer than its slave: make the finer surface the slave)");
+    row.kin.n = -normal[j];
+    Vec2 gap = Vec2::Zero();
+    for (int a = 0; a < row.kin.k; ++a) gap += row.kin.c[a] * x[row.kin.nodes[a]];
+    row.kin.gap0 = row.kin.gap_from = gap.dot(row.kin.n);
+    row.gap_normal = row.kin.n;
+    row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),
+                                          [](auto& p, auto& q) { return p.second < q.second; })->first;
+    surfaces_.set_gap_from(v, row);
+    out.push_back(row);
+  }
+}
+
+}  // namespace rpfem

@@ -1,0 +1,57 @@
+// Mortar (segment-to-segment) contact discretization between deformable
+// bodies (Puso and Laursen 2004; Yang, Laursen and Meng 2005): the
+// non-penetration of the slave surface is weighted over it with the slave's
+// shape functions N_j instead of being collocated at its nodes. One row
+// per slave node j, its gap and slip rates the weighted averages
+//   gamma_j = n_j . (sum_k D_jk v_k - sum_L M_jL v_L) / W_j,
+//   W_j = int N_j w (the covered part of the node's edges),
+// with the integrals D, M of formulations/mortar/mortar_integrals.hpp over
+// the pieces of the slave edges that master edges face, n_j the master's
+// outward normal at j (minus the slave's averaged nodal normal), and the
+// gap g_j = n_j . (sum_k D_jk x_k - sum_L M_jL x_L) / W_j likewise. The row's
+// weight (its share of the contact surface) is W_j.
+// Standard (not dual) shape functions weight the rows: every coefficient
+// lies in [-1, 1] and W_j > 0 however little of an edge a master faces
+// (dual functions change sign: at the edge of a contact zone their W_j may
+// vanish or turn negative, and their biorthogonality needs a modified
+// basis there, Cichosz and Bischoff 2011); what dual functions buy, a
+// diagonal D for condensing the multipliers, an enforcement here never
+// needs (penalty and the augmented Lagrangian add terms, ipopt keeps its
+// constraints). Sums: sum_k D_jk = sum_L M_jL = W_j, so a rigid motion
+// gives no gap rate, and a uniform pressure p gives the consistent nodal
+// forces p int N w on both surfaces (the patch test).
+// One pass with a fixed slave (`contact.slave`: the finer surface by
+// default). Against a rigid die the rows are node-to-die (the die's
+// surface is exact): contact/contact_surfaces.hpp.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "contact/contact_surfaces.hpp"
+#include "contact/discretization.hpp"
+#include "io/case_file.hpp"
+#include "model/scene.hpp"
+
+namespace rpfem {
+
+class Mortar final : public ContactDiscretization {
+ public:
+  Mortar(const Scene& scene, CaseSection settings);
+  std::string name() const override { return "mortar"; }
+  const std::vector<ContactInterface>& interfaces() const override { return surfaces_.interfaces(); }
+  void rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>& events) override;
+  void areas(const StepView& v, const std::vector<ContactRow>& rows, const std::vector<char>& in_contact,
+             std::vector<RowArea>& out) const override {
+    surfaces_.areas(v, rows, in_contact, out);
+  }
+
+ private:
+  void add_rows(const StepView& v, int iface, std::vector<ContactRow>& out) const;
+
+  const Scene& scene_;
+  ContactSurfaces surfaces_;
+  std::vector<int> slave_;  // per interface between bodies: the slave side
+  double capture_ = 0;
+};
+
+}  // namespace rpfem

@@ -1,0 +1,80 @@
+#include "mortar/mortar_integrals.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rpfem {
+
+namespace {
+
+double cross(const Vec2& a, const Vec2& b) { return a(0) * b(1) - a(1) * b(0); }
+
+// Parameters within this of an edge's ends count as its ends (a master node
+// on a slave node's normal line).
+constexpr double kEndTolerance = 1e-9;
+
+}  // namespace
+
+std::optional<double> project_onto_slave(const Vec2& xa, const Vec2& xb, const Vec2& na, const Vec2& nb,
+                                         const Vec2& p) {
+  // (q + xi d) x (na + xi dn) = c0 + c1 xi + c2 xi^2 = 0, q = xa - p.
+  const Vec2 d = xb - xa, dn = nb - na, q = xa - p;
+  const double c0 = cross(q, na), c1 = cross(q, dn) + cross(d, na), c2 = cross(d, dn);
+  const double scale = d.norm();
+  if (std::abs(c2) <= 1e-12 * scale) {
+    if (std::abs(c1) <= 1e-14 * scale) return std::nullopt;
+    return -c0 / c1;
+  }
+  const double disc = c1 * c1 - 4 * c2 * c0;
+  if (disc < 0) return std::nullopt;
+  // The numerically stable pair of roots; the one nearest the edge's middle.
+  const double s = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
+  const double r1 = s / c2, r2 = s != 0 ? c0 / s : r1;
+  return std::abs(r1 - 0.5) <= std::abs(r2 - 0.5) ? r1 : r2;
+}
+
+std::optional<double> project_onto_master(const Vec2& xA, const Vec2& xB, const Vec2& n, const Vec2& p) {
+  const Vec2 d = xB - xA;
+  const double den = cross(d, n);
+  if (std::abs(den) <= 1e-12 * d.norm()) return std::nullopt;
+  return cross(p - xA, n) / den;
+}
+
+std::optional<MortarPiece> mortar_piece(const Vec2& xa, const Vec2& xb, const Vec2& na, const Vec2& nb,
+                                        const Vec2& xA, const Vec2& xB) {
+  const auto xiA = project_onto_slave(xa, xb, na, nb, xA), xiB = project_onto_slave(xa, xb, na, nb, xB);
+  const auto eta_a = project_onto_master(xA, xB, na, xa), eta_b = project_onto_master(xA, xB, nb, xb);
+  if (!xiA || !xiB || !eta_a || !eta_b || *xiA == *xiB) return std::nullopt;
+  // The piece's ends on the slave edge: its own nodes or the master nodes'
+  // projections, whichever are inner; eta at each end likewise.
+  const bool forward = *xiA < *xiB;  // eta grows with xi
+  const double lo = forward ? *xiA : *xiB, hi = forward ? *xiB : *xiA;
+  MortarPiece p;
+  if (lo > kEndTolerance) p.xi0 = lo, p.eta0 = forward ? 0.0 : 1.0;
+  else p.xi0 = 0, p.eta0 = *eta_a;
+  if (hi < 1 - kEndTolerance) p.xi1 = hi, p.eta1 = forward ? 1.0 : 0.0;
+  else p.xi1 = 1, p.eta1 = *eta_b;
+  if (!(p.xi1 - p.xi0 > kEndTolerance)) return std::nullopt;
+  // Both ends must lie on the master edge as well.
+  const auto inside = [](double e) { return e >= -kEndTolerance && e <= 1 + kEndTolerance; };
+  if (!inside(p.eta0) || !inside(p.eta1)) return std::nullopt;
+  p.eta0 = std::clamp(p.eta0, 0.0, 1.0), p.eta1 = std::clamp(p.eta1, 0.0, 1.0);
+  return p;
+}
+
+void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p,
+                     std::array<std::array<double, 2>, 2>& D, std::array<std::array<double, 2>, 2>& M) {
+  const double L = (xb - xa).norm(), J = p.xi1 - p.xi0;
+  constexpr double kGauss = 0.5773502691896257;  // 1 / sqrt 3: the 2-point rule on [-1, 1]
+  for (const double s : {-kGauss, kGauss}) {
+    const double t = 0.5 * (1 + s);  // in [0, 1] along the piece
+    const double xi = p.xi0 + t * J, eta = p.eta0 + t * (p.eta1 - p.eta0);
+    const double r = (1 - xi) * xa(0) + xi * xb(0);
+    const double w = 0.5 * J * L * (g == Geometry::Axisymmetric ? 2 * kPi * r : 1.0);
+    const std::array<double, 2> N{1 - xi, xi}, NM{1 - eta, eta};
+    for (int k = 0; k < 2; ++k)
+      for (int l = 0; l < 2; ++l) D[k][l] += N[k] * N[l] * w, M[k][l] += N[k] * NM[l] * w;
+  }
+}
+
+}  // namespace rpfem

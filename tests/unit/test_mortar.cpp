@@ -1,0 +1,138 @@
+// The mortar integrals (formulations/mortar/mortar_integrals.hpp) against
+// hand-computed values, and the mortar rows of the patch test's interface
+// (formulations/mortar): coefficients that sum to zero, no gap rate under
+// a rigid motion, weights that add up to the covered area.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "contact/contact_model.hpp"
+#include "factory.hpp"
+#include "io/case_file.hpp"
+#include "initial_view.hpp"
+#include "io/scene_reader.hpp"
+#include "mortar/mortar_integrals.hpp"
+
+using namespace rpfem;
+
+namespace {
+
+using Mat2 = std::array<std::array<double, 2>, 2>;
+
+// Slave edges [0, 1] and [1, 2] on y = 0 against master edges [-0.5, 0.5],
+// [0.5, 1.5], [1.5, 2.5] at y = 0.1, plane strain: the integrals of the
+// slave node at x = 1 (N_1 on both its edges).
+struct HalfOffset {
+  std::array<double, 3> D{};  // over slave nodes x = 0, 1, 2
+  std::array<double, 4> M{};  // over master nodes x = -0.5, 0.5, 1.5, 2.5
+};
+
+HalfOffset half_offset(Geometry g, double shift = 0) {
+  HalfOffset out;
+  const Vec2 up(0, 1), s(shift, 0);
+  for (int e = 0; e < 2; ++e) {
+    const Vec2 xa = Vec2(e, 0) + s, xb = Vec2(e + 1, 0) + s;
+    for (int m = 0; m < 3; ++m) {
+      const Vec2 xA = Vec2(m - 0.5, 0.1) + s, xB = Vec2(m + 0.5, 0.1) + s;
+      const auto p = mortar_piece(xa, xb, up, up, xA, xB);
+      if (!p) continue;
+      Mat2 D{}, M{};
+      integrate_piece(xa, xb, g, *p, D, M);
+      const int j = e == 0 ? 1 : 0;  // node x = 1 is b of edge 0 and a of edge 1
+      for (int l = 0; l < 2; ++l) out.D[e + l] += D[j][l], out.M[m + l] += M[j][l];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(MortarIntegrals, PieceOfAnOffsetMasterEdge) {
+  // Slave [0, 1], master [-0.5, 0.5] 0.1 above: the piece xi in [0, 0.5],
+  // eta from 0.5 to 1.
+  const auto p = mortar_piece(Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(0, 1), Vec2(-0.5, 0.1), Vec2(0.5, 0.1));
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->xi0, 0, 1e-15);
+  EXPECT_NEAR(p->xi1, 0.5, 1e-15);
+  EXPECT_NEAR(p->eta0, 0.5, 1e-15);
+  EXPECT_NEAR(p->eta1, 1.0, 1e-15);
+  // int_0^1/2 of (1-x)^2, x(1-x), x^2 and of N_k N_L with N_A = 1/2 - x, N_B = 1/2 + x.
+  Mat2 D{}, M{};
+  integrate_piece(Vec2(0, 0), Vec2(1, 0), Geometry::PlaneStrain, *p, D, M);
+  EXPECT_NEAR(D[0][0], 7.0 / 24, 1e-15);
+  EXPECT_NEAR(D[0][1], 1.0 / 12, 1e-15);
+  EXPECT_NEAR(D[1][1], 1.0 / 24, 1e-15);
+  EXPECT_NEAR(M[0][0], 5.0 / 48, 1e-15);
+  EXPECT_NEAR(M[0][1], 13.0 / 48, 1e-15);
+  EXPECT_NEAR(M[1][0], 1.0 / 48, 1e-15);
+  EXPECT_NEAR(M[1][1], 5.0 / 48, 1e-15);
+  // A master edge beside the slave edge faces none of it.
+  EXPECT_FALSE(mortar_piece(Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(0, 1), Vec2(1.5, 0.1), Vec2(2.5, 0.1)));
+}
+
+TEST(MortarIntegrals, HalfOffsetMeshesByHand) {
+  // N_1 against the slave nodes: 1/6, 2/3, 1/6 (the consistent mass); against
+  // the master nodes: 1/48, 23/48, 23/48, 1/48. Both sum to W = 1.
+  const HalfOffset h = half_offset(Geometry::PlaneStrain);
+  const std::array<double, 3> D{1.0 / 6, 2.0 / 3, 1.0 / 6};
+  const std::array<double, 4> M{1.0 / 48, 23.0 / 48, 23.0 / 48, 1.0 / 48};
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(h.D[k], D[k], 1e-15) << k;
+  for (int l = 0; l < 4; ++l) EXPECT_NEAR(h.M[l], M[l], 1e-15) << l;
+}
+
+TEST(MortarIntegrals, AxisymmetricWeightExactlyIntegrated) {
+  // The same meshes 1 mm off the axis: the integrands are cubic in x (the
+  // weight 2 pi r linear), which the 2-point rule integrates exactly; the
+  // reference is a 20000-point midpoint rule.
+  const HalfOffset h = half_offset(Geometry::Axisymmetric, 1.0);
+  const int n = 20000;
+  std::array<double, 3> D{};
+  std::array<double, 4> M{};
+  const auto hat = [](double x, double c) { return std::max(0.0, 1 - std::abs(x - c)); };
+  for (int i = 0; i < n; ++i) {
+    const double x = 1 + 2 * (i + 0.5) / n, dx = 2.0 / n;
+    const double w = 2 * kPi * x * dx * hat(x, 2);
+    for (int k = 0; k < 3; ++k) D[k] += w * hat(x, 1 + k);
+    for (int l = 0; l < 4; ++l) M[l] += w * hat(x, 0.5 + l);
+  }
+  double W = 0, WM = 0;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(h.D[k], D[k], 1e-7 * D[1]) << k;
+    W += h.D[k];
+  }
+  for (int l = 0; l < 4; ++l) {
+    EXPECT_NEAR(h.M[l], M[l], 1e-7 * D[1]) << l;
+    WM += h.M[l];
+  }
+  EXPECT_NEAR(W, 2 * kPi * 2, 1e-12);  // int N_1 2 pi r over [1, 3]: 2 pi r at the node
+  EXPECT_NEAR(WM, W, 1e-12);
+}
+
+TEST(Mortar, RowsOfThePatchTestAreConsistent) {
+  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml", {"contact.discretization=mortar"});
+  const Scene scene = read_scene(file);
+  const auto contact = make_contact(file, scene);
+  const auto& model = dynamic_cast<const ContactModel&>(*contact);
+  std::vector<double> flow;
+  contact->begin_step(unit::initial_view(scene, flow));
+  const auto& rows = model.rows();
+  ASSERT_EQ(rows.size(), 11u);  // the finer (lower, 10 edges) surface's nodes
+  // A rigid motion: translation and rotation about (3, 5).
+  std::vector<Vec2> rigid(scene.mesh.x.size());
+  for (std::size_t i = 0; i < rigid.size(); ++i) {
+    const Vec2 d = scene.mesh.x[i] - Vec2(3, 5);
+    rigid[i] = Vec2(0.3, -0.7) + 0.2 * Vec2(-d(1), d(0));
+  }
+  double W = 0;
+  for (const ContactRow& r : rows) {
+    double sum = 0;
+    for (int a = 0; a < r.kin.k; ++a) sum += r.kin.c[a];
+    EXPECT_NEAR(sum, 0, 1e-14);
+    EXPECT_NEAR(r.kin.gap0, 0, 1e-14);
+    EXPECT_NEAR(gap_rate(r.kin, rigid), 0, 1e-13);
+    EXPECT_NEAR(slip_rate(r.kin, rigid), 0, 1e-13);
+    EXPECT_GT(r.kin.k, 3);  // the slave node, a neighbour, and master nodes
+    W += r.weight;
+  }
+  EXPECT_NEAR(W, kPi * 100, 1e-9);  // the interface's area, pi R^2
+}
