@@ -33,6 +33,7 @@ namespace {
 // master nodes L, the master element it overlaps most.
 struct RowSums {
   std::map<Index, double> D, M;
+  double nearest = INFINITY;  // mm, the least gap at the ends of its pieces
   std::map<Index, double> element_share;  // master element -> sum of M over it
 };
 
@@ -77,10 +78,17 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
       if (std::abs((pm - ps).dot(((1 - xi) * normal[a] + xi * normal[b]).normalized())) > capture) continue;
       std::array<std::array<double, 2>, 2> D{}, M{};
       integrate_piece(xa, xb, v.geometry, *piece, D, M);
+      // The gap at the piece's ends, along the interpolated slave normal.
+      double nearest = INFINITY;
+      for (const auto& [xe, ee] : {std::pair{piece->xi0, piece->eta0}, std::pair{piece->xi1, piece->eta1}}) {
+        const Vec2 n = ((1 - xe) * normal[a] + xe * normal[b]).normalized();
+        nearest = std::min(nearest, (xA + ee * (xB - xA) - xa - xe * (xb - xa)).dot(n));
+      }
       const std::array<int, 2> local{a, b};
       const std::array<Index, 2> snode{e.a, e.b}, mnode{me.a, me.b};
       for (int k = 0; k < 2; ++k) {
         RowSums& r = sums[local[k]];
+        r.nearest = std::min(r.nearest, nearest);
         for (int l = 0; l < 2; ++l) {
           r.D[snode[l]] += D[k][l];
           r.M[mnode[l]] += M[k][l];
@@ -118,6 +126,8 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     for (int a = 0; a < row.kin.k; ++a) gap += row.kin.c[a] * x[row.kin.nodes[a]];
     row.kin.gap0 = row.kin.gap_from = gap.dot(row.kin.n);
     row.gap_normal = row.kin.n;
+    row.touch_gap = r.nearest;
+    row.lands = false;
     row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),
                                           [](auto& p, auto& q) { return p.second < q.second; })->first;
     surfaces_.set_gap_from(v, row);

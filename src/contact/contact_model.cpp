@@ -72,7 +72,7 @@ void ContactModel::begin_step(const StepView& v) {
   if (!v.moves) {
     for (ContactRow& r : rows_) {
       const bool stays = !settings_.landing_control || touching_.count({r.iface, r.key});
-      r.free = r.kin.gap0 > (stays ? kDriftBand : kLandingBand) * disc_->interfaces()[r.iface].h;
+      r.free = r.nearest() > (stays ? kDriftBand : kLandingBand) * disc_->interfaces()[r.iface].h;
       r.kin.gap_from = std::min(r.kin.gap_from, 0.0);
     }
   }
@@ -104,7 +104,7 @@ std::optional<double> ContactModel::limit_dt(const StepView& v, const std::vecto
   std::optional<double> limit;
   for (std::size_t i = 0; i < rows_.size() && i < res.size(); ++i) {
     const ContactRow& r = rows_[i];
-    if (res[i].in_contact || !(r.kin.gap0 > 0)) continue;
+    if (!r.lands || res[i].in_contact || !(r.kin.gap0 > 0)) continue;
     PairKinematics along = r.kin;
     along.n = r.gap_normal;
     const double closing = -gap_rate(along, vel);

@@ -7,6 +7,8 @@
 // discretization knows nothing of how its rows are satisfied.
 #pragma once
 #include <array>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +50,16 @@ struct ContactRow {
   // its master: the row takes no part in the solve (it stays for landing
   // control and the gap field). Set by ContactModel.
   bool free = false;
+  // mm: where its surfaces are closest over the row's support, if that is
+  // not kin.gap0 (a mortar row's gap is a weighted average: a cone touching
+  // a flat at one point leaves it open). NaN: kin.gap0.
+  double touch_gap = std::numeric_limits<double>::quiet_NaN();
+  double nearest() const { return std::isnan(touch_gap) ? kin.gap0 : touch_gap; }
+  // Whether the row engages at once (a node landing on a surface: the load
+  // jumps there, and landing control ends a step at it) or gradually (a
+  // mortar row: its weighted gap closes as the contact zone grows over its
+  // support, and the load with it).
+  bool lands = true;
 };
 
 // Contact area and sticking bound of a row, given which rows are in

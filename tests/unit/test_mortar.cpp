@@ -136,3 +136,34 @@ TEST(Mortar, RowsOfThePatchTestAreConsistent) {
   }
   EXPECT_NEAR(W, kPi * 100, 1e-9);  // the interface's area, pi R^2
 }
+
+TEST(Mortar, ARowTouchesWhereItsSurfacesMeet) {
+  // The upper block's bottom tilted to rise 0.5 mm over 10 (a cone on a
+  // flat, as Test II's punch): the surfaces meet at the axis only. The axis
+  // row's weighted gap is open, but it touches (touch_gap 0) and so takes
+  // part in an instantaneous solve; mortar rows engage gradually, so
+  // landing control leaves them alone.
+  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml",
+                {"contact.discretization=mortar", "bodies.upper.mesh.shape=quadrilateral",
+                 "bodies.upper.mesh.corners=[0.0, 5.0, 10.0, 5.5, 10.0, 10.0, 0.0, 10.0]"});
+  const Scene scene = read_scene(file);
+  const auto contact = make_contact(file, scene);
+  const auto& model = dynamic_cast<const ContactModel&>(*contact);
+  std::vector<double> flow;
+  StepView v = unit::initial_view(scene, flow);
+  v.moves = false;
+  contact->begin_step(v);
+  const ContactRow* axis = nullptr;
+  for (const ContactRow& r : model.rows()) {
+    EXPECT_FALSE(r.lands);
+    EXPECT_GE(r.nearest(), -1e-14);
+    EXPECT_LE(r.nearest(), r.kin.gap0 + 1e-14);
+    if (scene.mesh.x[r.key](0) == 0) axis = &r;
+  }
+  ASSERT_NE(axis, nullptr);
+  EXPECT_NEAR(axis->nearest(), 0, 1e-14);
+  EXPECT_GT(axis->kin.gap0, 1e-3);
+  EXPECT_FALSE(axis->free);
+  for (const ContactRow& r : model.rows())
+    if (scene.mesh.x[r.key](0) > 2) EXPECT_TRUE(r.free);
+}
