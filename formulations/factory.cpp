@@ -54,11 +54,9 @@ const std::vector<DiscretizationInfo>& discretizations() {
       {"node_to_segment", "node to segment, one pass: slave nodes against master segments, Hallquist's roles "
                           "(the paper)", false},
       {"two_pass", "node to segment, two pass: each body's nodes against the other's segments", true, true},
-      // Not yet in the suite: Test II's virtual rigid punch touches the
-      // billet at one point at the start, every mortar row's weighted gap
-      // is open at the first solve, and an unloaded billet under a virtual
-      // rigid body stops that solve (as node-to-segment does with the punch
-      // 0.1 mm up; docs/notes.md).
+      // Not yet in the suite: under Test II's virtual rigid punch the
+      // billet lifts off the bottom die and the steps crawl from 0.35 mm
+      // (docs/notes.md, "Mortar contact").
       {"mortar", "mortar (segment to segment), one pass: the slave surface's gap and slip weighted by its shape "
                  "functions over the master segments facing it", true, false, false},
   };
