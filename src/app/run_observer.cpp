@@ -55,6 +55,7 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
   toml::table derived{{"reference_speed_mm_s", d.reference_speed},
                       {"reference_length_mm", d.reference_length},
                       {"reference_strain_rate_1_s", d.reference_strain_rate},
+                      {"force_scale_floor_N", d.force_floor},
                       {"limiting_strain_rate_1_s", d.limiting_strain_rate},
                       {"regularization_s", d.regularization},
                       {"dt_nominal_s", d.dt_nominal}};

@@ -94,7 +94,7 @@ double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& 
   for (std::size_t i = 0; i < v.size(); ++i) F[i] -= fext_[i];
   ForceSink sink(F);
   contact_.add_terms(view_, v, sink);
-  return std::sqrt(scale2);
+  return std::max(std::sqrt(scale2), force_floor_);
 }
 
 void StepProblem::residual(const Vec& u, Vec& R, double& scale) const {

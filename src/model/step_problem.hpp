@@ -50,7 +50,8 @@ class StepProblem {
 
   double energy(const Vec& u) const;
   // Full nodal force F = dPi/dv at nodal velocities v; returns a force scale
-  // (norm of the element forces) for relative residuals.
+  // for relative residuals: the norm of the element forces, at least the
+  // floor (set_force_floor).
   double nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const;
   void residual(const Vec& u, Vec& R, double& scale) const;
   // Assembles the tangent (consistent or secant) at u into the workspace.
@@ -66,6 +67,11 @@ class StepProblem {
   void viscous_predictor(double rate, Vec& u);
   double limiting_strain_rate() const { return epsdot_lim_; }
   void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate; }
+  // N: the least force scale. A step in which nothing is loaded (bodies
+  // approaching before their contact closes, a body at rest under a moving
+  // virtual rigid one) has element forces at round-off only, and a
+  // residual relative to them stays near 1 at the exact solution.
+  void set_force_floor(double f) { force_floor_ = f; }
 
  private:
   const StepView& view_;
@@ -76,6 +82,7 @@ class StepProblem {
   ContactFormulation& contact_;
   SolverWorkspace& ws_;
   double viscous_floor_ = 0;
+  double force_floor_ = 0;
 };
 
 // Consistent nodal external forces of the tractions on the current

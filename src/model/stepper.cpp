@@ -51,6 +51,12 @@ constexpr double kContinuationStart = 1e-3;
 // the virtual rigid punch 1.1e-6 at its first solve, 1e-7 at the coarse mesh.
 constexpr double kFloorWarning = 10;
 
+// The least force scale of a residual (StepProblem::set_force_floor),
+// relative to the softest body's initial flow stress times the reference
+// length squared: Test II's 30 N against its 0.18 kN at the first touch
+// and 1e5 N later.
+constexpr double kForceFloor = 1e-3;
+
 struct State {
   std::vector<Vec2> x;
   std::vector<std::array<double, 4>> strain;  // at the 2x2 points
@@ -158,6 +164,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   sv.moves = moves;
   const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
+  problem.set_force_floor(derived_.force_floor);
   contact_.begin_step(sv);
   ws_.linear.reset_rcond();
   // A failed solve keeps the least condition estimate it met (the stop
@@ -390,6 +397,9 @@ void Runner::set_up() {
   flow_stress_.assign(mesh.num_elements(), 0.0);
   for (Index e = 0; e < mesh.num_elements(); ++e) flow_stress_[e] = materials_[e].law->yield(0.0);
   derived_.dt_nominal = scene_.stepping.stroke_increment / derived_.reference_speed;
+  double softest = INFINITY;
+  for (const auto& b : scene_.bodies) softest = std::min(softest, b.law.yield(0.0));
+  derived_.force_floor = kForceFloor * softest * derived_.reference_length * derived_.reference_length;
 
   const ContactInfo info = contact_.info();
   std::vector<std::string> load_names = bc_.load_names();

@@ -51,6 +51,7 @@ struct DerivedParameters {
   double regularization = 0;         // s
   std::vector<double> alpha;         // MPa s, per body
   double dt_nominal = 0;             // s
+  double force_floor = 0;            // N, the least force scale of a residual
   std::vector<NamedValue> contact;   // the contact formulation's own
 };
 

@@ -230,3 +230,29 @@ TEST(RoleSwitch, CornerOfTheMasterMakesItTheSlave) {
               switch_steps.size(), switch_steps.front(), pen, master, load_error(0), load_error(after), load, worst,
               imbalance);
 }
+
+// Nothing loaded at first: Test II's virtual rigid punch lifted 0.1 mm
+// comes down onto a billet at rest. Until it lands every force is round-off
+// (the residual's scale has a floor, StepProblem::set_force_floor); it
+// lands at 0.1 mm by landing control, with the load of the unlifted punch
+// at its first touch.
+TEST(PaperTest2, AVirtualRigidPunchComesDownOntoTheBillet) {
+  const std::string lifted = run_case("paper_test2_virtual_rigid",
+                                      "--set stepping.end_stroke=0.2 --set "
+                                      "bodies.punch.mesh.corners=[0.0,10.1,20.0,13.62654,20.0,16.1,0.0,16.1]",
+                                      0, "_lifted");
+  const std::string touching = run_case("paper_test2_virtual_rigid", "--set stepping.end_stroke=0.05", 0, "_touching");
+  const History h = read_history(lifted + "/history.csv"), t = read_history(touching + "/history.csv");
+  const double first_touch = t.at("ram.Fy")[0];
+  ASSERT_LT(first_touch, -100.0);  // N
+  bool landed = false;
+  for (std::size_t i = 0; i < h.rows(); ++i) {
+    const double s = h.at("stroke")[i], F = h.at("ram.Fy")[i];
+    if (s < 0.1 - 1e-9) EXPECT_LT(std::abs(F), 1e-6 * std::abs(first_touch)) << "at " << s << " mm";
+    if (std::abs(s - 0.1) < 1e-9) {
+      landed = true;
+      EXPECT_NEAR(F, first_touch, 1e-3 * std::abs(first_touch));
+    }
+  }
+  EXPECT_TRUE(landed);
+}
