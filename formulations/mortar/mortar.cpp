@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <stdexcept>
 
 #include "mortar/mortar_integrals.hpp"
 
@@ -118,9 +117,9 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     for (const auto& [node, d] : r.D) fits = fits && row.kin.add(node, d / W);
     for (const auto& [node, m] : r.M) fits = fits && row.kin.add(node, -m / W);
     if (!fits)
-      throw std::runtime_error("mortar: the row of node " + std::to_string(S.nodes[j]) + " on " + f.name +
-                               " couples more than " + std::to_string(kMaxRowNodes) +
-                               " nodes (a master surface far finer than its slave: make the finer surface the slave)");
+      throw InputError(scene_.file + ": key 'contact.slave': the mortar row of node " + std::to_string(S.nodes[j]) +
+                       " on " + f.name + " couples more than " + std::to_string(kMaxRowNodes) +
+                       " nodes (a master surface far finer than its slave): expected the finer surface as the slave");
     row.kin.n = -normal[j];
     Vec2 gap = Vec2::Zero();
     for (int a = 0; a < row.kin.k; ++a) gap += row.kin.c[a] * x[row.kin.nodes[a]];

@@ -167,3 +167,19 @@ TEST(Mortar, ARowTouchesWhereItsSurfacesMeet) {
   for (const ContactRow& r : model.rows())
     if (scene.mesh.x[r.key](0) > 2) EXPECT_TRUE(r.free);
 }
+
+TEST(Mortar, ARowTooWideIsAClearError) {
+  // The coarse lower block (10 edges) as the slave of an upper block of 60:
+  // a row's support (2 mm) faces 13 master nodes, more than a row holds.
+  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml",
+                {"contact.discretization=mortar", "contact.slave=body", "bodies.upper.mesh.nx=60"});
+  const Scene scene = read_scene(file);
+  const auto contact = make_contact(file, scene);
+  std::vector<double> flow;
+  try {
+    contact->begin_step(unit::initial_view(scene, flow));
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact.slave"), std::string::npos) << e.what();
+  }
+}
