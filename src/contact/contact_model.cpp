@@ -68,12 +68,15 @@ void ContactModel::begin_step(const StepView& v) {
   disc_->rows(v, rows_, events_);
   // An instantaneous solve anticipates no landing: only slaves touching now
   // take part (to within what a landing leaves of the interface's element
-  // size), and only a penetration is corrected over dt.
+  // size), and only a penetration is corrected over dt. A row that engages
+  // gradually (mortar) keeps its open weighted gap: taken as closed, the
+  // rows at the contact zone's rim pressed fully and spread the load
+  // outward (under Test II's punch the billet's centre lifted off the die).
   if (!v.moves) {
     for (ContactRow& r : rows_) {
       const bool stays = !settings_.landing_control || touching_.count({r.iface, r.key});
       r.free = r.nearest() > (stays ? kDriftBand : kLandingBand) * disc_->interfaces()[r.iface].h;
-      r.kin.gap_from = std::min(r.kin.gap_from, 0.0);
+      if (r.lands) r.kin.gap_from = std::min(r.kin.gap_from, 0.0);
     }
   }
   enf_->begin_step(v, rows_);
