@@ -63,26 +63,26 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     }
     std::sort(seen.begin(), seen.end());
     seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-    const Vec2 slave_out = Vec2(xb(1) - xa(1), xa(0) - xb(0)).normalized();  // the body on the left
+    const Vec2 slave_out = outward(xb - xa);
+    // The gap at slave parameter xi and master parameter eta, along the
+    // slave normal interpolated from the nodal normals.
+    const auto gap_at = [&](double xi, double eta, const Vec2& xA, const Vec2& xB) {
+      const Vec2 n = ((1 - xi) * normal[a] + xi * normal[b]).normalized();
+      return (xA + eta * (xB - xA) - xa - xi * (xb - xa)).dot(n);
+    };
     for (const int m : seen) {
       const Edge& me = Mst.edges[m];
       const Vec2 &xA = x[me.a], &xB = x[me.b];
-      const Vec2 master_out = Vec2(xB(1) - xA(1), xA(0) - xB(0)).normalized();
-      if (master_out.dot(slave_out) >= 0) continue;  // the master edge does not face the slave
+      if (outward(xB - xA).dot(slave_out) >= 0) continue;  // the master edge does not face the slave
       const auto piece = mortar_piece(xa, xb, normal[a], normal[b], xA, xB);
       if (!piece) continue;
-      // Within reach: the gap at the piece's middle along the slave normal.
-      const double xi = 0.5 * (piece->xi0 + piece->xi1), eta = 0.5 * (piece->eta0 + piece->eta1);
-      const Vec2 ps = xa + xi * (xb - xa), pm = xA + eta * (xB - xA);
-      if (std::abs((pm - ps).dot(((1 - xi) * normal[a] + xi * normal[b]).normalized())) > capture) continue;
+      // Within reach: the gap at the piece's middle.
+      if (std::abs(gap_at(0.5 * (piece->xi0 + piece->xi1), 0.5 * (piece->eta0 + piece->eta1), xA, xB)) > capture)
+        continue;
       std::array<std::array<double, 2>, 2> D{}, M{};
       integrate_piece(xa, xb, v.geometry, *piece, D, M);
-      // The gap at the piece's ends, along the interpolated slave normal.
-      double nearest = INFINITY;
-      for (const auto& [xe, ee] : {std::pair{piece->xi0, piece->eta0}, std::pair{piece->xi1, piece->eta1}}) {
-        const Vec2 n = ((1 - xe) * normal[a] + xe * normal[b]).normalized();
-        nearest = std::min(nearest, (xA + ee * (xB - xA) - xa - xe * (xb - xa)).dot(n));
-      }
+      // Where its surfaces are closest: the gap at the piece's ends.
+      const double nearest = std::min(gap_at(piece->xi0, piece->eta0, xA, xB), gap_at(piece->xi1, piece->eta1, xA, xB));
       const std::array<int, 2> local{a, b};
       const std::array<Index, 2> snode{e.a, e.b}, mnode{me.a, me.b};
       for (int k = 0; k < 2; ++k) {

@@ -7,7 +7,6 @@ namespace rpfem {
 
 namespace {
 
-double cross(const Vec2& a, const Vec2& b) { return a(0) * b(1) - a(1) * b(0); }
 
 // Parameters within this of an edge's ends count as its ends (a master node
 // on a slave node's normal line).

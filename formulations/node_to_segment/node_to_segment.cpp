@@ -74,8 +74,7 @@ void NodeToSegment::add_rows(const StepView& v, int iface, int side,
     const Edge& e = M.edges[hits[l]->edge];
     r.master_element = e.element;
     r.kin = segment_pair(S.nodes[l], e, *hits[l]);
-    const Vec2 d = x[e.b] - x[e.a];
-    r.gap_normal = hits[l]->at_vertex ? r.kin.n : Vec2(d(1), -d(0)).normalized();  // outward: body on the left
+    r.gap_normal = hits[l]->at_vertex ? r.kin.n : outward(x[e.b] - x[e.a]);
     if (two_pass_) r.friction_share = 0.5;  // each pass carries half the interface's friction
     surfaces_.set_gap_from(v, r);
     out.push_back(r);

@@ -27,9 +27,10 @@ constexpr double kNegligibleLanding = 1e-6;
 // How close to its master, relative to the element size, an instantaneous
 // solve counts a slave as touching. A slave on the contact surface at the
 // last solve (in contact, or a master node of a row in contact: after a
-// role switch the new slaves were on it), or one that landed within a step (no landing control), ends the step
-// this close (the linearized geometry of the step moves it along the
-// tangent of a curved or moving master). A slave that was free lands,
+// role switch the new slaves were on it), or one that landed within a
+// step (no landing control), ends the step this close (the linearized
+// geometry of the step moves it along the tangent of a curved or moving
+// master). A slave that was free lands,
 // with landing control, at the end of the step to the landing
 // prediction's error: the narrow band leaves it out of the record solve
 // at its landing stroke (the load before the landing) and the next step,

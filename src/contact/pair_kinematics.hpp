@@ -1,14 +1,15 @@
 // A slave point against its master, as every contact formulation sees it
 // (paper eq. 5, 9, 12), shared by the formulations (the kernel does not use
 // it): the relative velocity as weights c_a on the velocities of the row's
-// nodes (the slave node first, then the master's; each node once):
+// nodes (the slave node first; each node once):
 //   u = sum_a c_a v_a - offset
 // A node against a segment of another body (3 nodes) or a rigid die (1
 // node, offset the die's velocity):
 //   u = v_s - (1 - xi) v_a - xi v_b      (body master at xi)
 //   u = v_s - v_die                      (die master)
-// A mortar row (formulations/mortar): the slave node against every master
-// node its dual shape function's support overlaps, c = (1, -M_jl / D_j).
+// A mortar row (formulations/mortar): the slave node j and its neighbours,
+// c = D_jk / W_j, against the master nodes its shape function's support
+// faces, c = -M_jL / W_j.
 //   gamma_N = u . n   (gap rate; paper eq. 5 with the opposite sign: > 0 opens)
 //   gamma_T = u . t,  t = (-n_y, n_x)
 // and the gap at the end of a step of length dt, linearized in the
@@ -30,7 +31,7 @@ namespace rpfem {
 constexpr int kMaxRowNodes = 12;
 
 struct PairKinematics {
-  int k = 1;                                  // nodes: slave, then its master's
+  int k = 1;                                  // nodes: the slave first
   std::array<Index, kMaxRowNodes> nodes{};    // mesh node ids
   std::array<double, kMaxRowNodes> c{1};      // u = sum_a c_a v_a - offset
   Vec2 offset = Vec2::Zero();       // die velocity (die master), mm/s

@@ -9,10 +9,7 @@
 
 namespace rpfem {
 
-namespace {
-double cross(const Vec2& a, const Vec2& b) { return a(0) * b(1) - a(1) * b(0); }
 Vec2 outward(const Vec2& d) { return Vec2(d(1), -d(0)).normalized(); }
-}  // namespace
 
 double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s) {
   double sum = 0;

@@ -47,6 +47,10 @@ struct ContactSurface {
   }
 };
 
+// The outward unit normal of a surface edge along d = x_b - x_a (the body
+// on its left).
+Vec2 outward(const Vec2& d);
+
 // Mean edge length of a surface at coordinates x (mm; 0 without edges).
 double mean_edge_length(const std::vector<Vec2>& x, const ContactSurface& s);
 

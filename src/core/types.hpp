@@ -22,6 +22,10 @@ inline constexpr double kPi = 3.14159265358979323846;
 
 enum class Geometry { Axisymmetric, PlaneStrain };
 
+// The cross product of two plane vectors (its z component): > 0 when b
+// turns left from a.
+inline double cross(const Vec2& a, const Vec2& b) { return a(0) * b(1) - a(1) * b(0); }
+
 // Error in user input (case file, command line): the driver prints what()
 // on one line and exits with code 2.
 struct InputError : std::runtime_error {

@@ -8,7 +8,6 @@
 namespace rpfem {
 
 namespace {
-double cross(const Vec2& a, const Vec2& b) { return a(0) * b(1) - a(1) * b(0); }
 Vec2 right_normal(const Vec2& d) { return Vec2(d(1), -d(0)); }
 }  // namespace
 

@@ -57,7 +57,6 @@ struct Block {
   }
 };
 
-double cross(const Vec2& a, const Vec2& b) { return a(0) * b(1) - a(1) * b(0); }
 
 // Meshes the blocks into one body: coincident nodes of neighbouring blocks
 // are merged, boundary edges (used by exactly one element) are oriented

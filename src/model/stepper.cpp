@@ -101,17 +101,17 @@ class Runner {
   // A step from st (sol solved there), halving it on failure; false when
   // the run stops (out_.reason says why).
   bool take_step(State& st, Solution& sol, int step);
-  // from: the state the solved velocity moves from (default st).
-  // from: the state the velocity moves the nodes from (midpoint half step);
+  // from: the state the velocity moves the nodes from (midpoint half step;
+  // default st);
   // moves: whether it moves them at all (StepView::moves).
   Solution solve(const State& st, const std::vector<Vec2>& guess, int step, double dt, const State* from = nullptr,
                  bool moves = true);
   // One solve of the step's problem from u: the formulation's own solver,
-  // or Newton.
-  NewtonResult solve_once(const StepView& sv, StepProblem& problem, Vec& u);
+  // or Newton (warm: a re-solve after a small change, StepCheck::warm).
+  NewtonResult solve_once(const StepView& sv, StepProblem& problem, Vec& u, bool warm);
   // A failed solve whose limiting strain rate is below kContinuationStart
   // is redone by continuation (see kContinuationStart).
-  NewtonResult solve_with_continuation(const StepView& sv, StepProblem& problem, Vec& u,
+  NewtonResult solve_with_continuation(const StepView& sv, StepProblem& problem, Vec& u, bool warm,
                                        std::vector<std::string>& events);
   State advance(const State& st, const Solution& sol, double dt) const;
   StepView view(const State& st, int step, double dt) const;
@@ -138,7 +138,6 @@ class Runner {
   int min_rcond_step_ = -1, floor_steps_ = 0, worst_floor_step_ = -1;
   double worst_floor_ = 0;
   int penetrating_steps_ = 0, worst_penetration_step_ = -1;
-  bool warm_ = false;  // the next pass re-solves after a small change (StepCheck::warm)
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
 };
 
@@ -177,7 +176,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   std::vector<Vec2> v = guess;
   const bool cold = std::all_of(guess.begin(), guess.end(), [](const Vec2& g) { return g.isZero(); });
   constexpr int kMaxPasses = 50;
-  warm_ = false;
+  bool warm = false;  // the pass re-solves after a small change (StepCheck::warm)
   for (sol.passes = 1; sol.passes <= kMaxPasses; ++sol.passes) {
     std::vector<NodeConstraint> cons = bc_.constraints;
     contact_.constraints(sv, cons);
@@ -194,7 +193,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
       // in it): its condition is not recorded.
       ws_.linear.reset_rcond();
     }
-    const NewtonResult r = solve_with_continuation(sv, problem, u, sol.events);
+    const NewtonResult r = solve_with_continuation(sv, problem, u, warm, sol.events);
     sol.iterations += r.iterations;
     sol.residual = r.residual;
     sol.stalled = r.stalled;
@@ -203,7 +202,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     problem.nodal_forces(v, sol.F);
     StepCheck check = contact_.settle(sv, v, sol.F);
     sol.events.insert(sol.events.end(), check.events.begin(), check.events.end());
-    warm_ = check.warm;
+    warm = check.warm;
     if (!check.resolve) break;
   }
   if (sol.passes > kMaxPasses) return fail("contact state did not settle in " + std::to_string(kMaxPasses) + " passes");
@@ -231,7 +230,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   return sol;
 }
 
-NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u) {
+NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u, bool warm) {
   if (StepSolver* own = contact_.solver()) {
     const SolveOutcome o = own->solve(sv, problem, u);
     NewtonResult r;
@@ -242,17 +241,17 @@ NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u
     return r;
   }
   NewtonSettings settings = scene_.solver.newton;
-  if (warm_) settings.direct_iterations = 0, settings.reuse_factorization = true;
+  if (warm) settings.direct_iterations = 0, settings.reuse_factorization = true;
   if (const double t = contact_.tangent().tol_velocity; t > 0) settings.tol_velocity = std::min(settings.tol_velocity, t);
   NewtonResult r = newton_solve(problem.newton_system(), settings, u);
   if (!r.converged) r.reason = "Newton: " + r.reason;
   return r;
 }
 
-NewtonResult Runner::solve_with_continuation(const StepView& sv, StepProblem& problem, Vec& u,
+NewtonResult Runner::solve_with_continuation(const StepView& sv, StepProblem& problem, Vec& u, bool warm,
                                              std::vector<std::string>& events) {
   const Vec start = u;
-  NewtonResult r = solve_once(sv, problem, u);
+  NewtonResult r = solve_once(sv, problem, u, warm);
   const double lim = problem.limiting_strain_rate();
   const double first = kContinuationStart * derived_.reference_strain_rate;
   if (r.converged || !(lim < first)) return r;
@@ -263,7 +262,7 @@ NewtonResult Runner::solve_with_continuation(const StepView& sv, StepProblem& pr
   double rate = first;
   for (;;) {
     problem.set_limiting_strain_rate(rate);
-    r = solve_once(sv, problem, u);
+    r = solve_once(sv, problem, u, warm);
     iterations += r.iterations, ++solves;
     if (!r.converged || rate == lim) break;
     rate = 0.1 * rate > lim * (1 + 1e-9) ? 0.1 * rate : lim;
