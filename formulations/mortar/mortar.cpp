@@ -20,10 +20,34 @@ Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfac
 
 void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>&) {
   out.clear();
+  slave_penetration_ = master_penetration_ = 0;
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) {
-    if (surfaces_.interfaces()[i].die >= 0) surfaces_.add_die_rows(v, i, out);
-    else add_rows(v, i, out);
+    if (surfaces_.interfaces()[i].die >= 0) {
+      surfaces_.add_die_rows(v, i, out);
+      continue;
+    }
+    add_rows(v, i, out);
+    const int s = slave_[i];
+    slave_penetration_ = std::max(slave_penetration_, deepest_node(v, i, s));
+    master_penetration_ = std::max(master_penetration_, deepest_node(v, i, 1 - s));
   }
+}
+
+double Mortar::deepest_node(const StepView& v, int iface, int side) const {
+  const ContactInterface& f = surfaces_.interfaces()[iface];
+  const ContactSurface &S = surfaces_.side(iface, side), &M = surfaces_.side(iface, 1 - side);
+  const double capture = capture_ * f.h;
+  const SegmentGrid grid(*v.x, M, capture);
+  double deepest = 0;
+  for (const auto& hit : find_segments(*v.x, S, M, grid, capture))
+    if (hit) deepest = std::max(deepest, -hit->gap);
+  return deepest / f.h;
+}
+
+void Mortar::columns(std::vector<NamedValue>& out) const {
+  if (!surfaces_.any_bodies()) return;
+  out.push_back({"slave_penetration_rel", slave_penetration_});
+  out.push_back({"master_penetration_rel", master_penetration_});
 }
 
 namespace {
@@ -33,6 +57,7 @@ namespace {
 struct RowSums {
   std::map<Index, double> D, M;
   double nearest = INFINITY;  // mm, the least gap at the ends of its pieces
+  Vec2 master_normal = Vec2::Zero();  // int N_j n_master w over its pieces
   std::map<Index, double> element_share;  // master element -> sum of M over it
 };
 
@@ -73,7 +98,8 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     for (const int m : seen) {
       const Edge& me = Mst.edges[m];
       const Vec2 &xA = x[me.a], &xB = x[me.b];
-      if (outward(xB - xA).dot(slave_out) >= 0) continue;  // the master edge does not face the slave
+      const Vec2 master_out = outward(xB - xA);
+      if (master_out.dot(slave_out) >= 0) continue;  // the master edge does not face the slave
       const auto piece = mortar_piece(xa, xb, normal[a], normal[b], xA, xB);
       if (!piece) continue;
       // Within reach: the gap at the piece's middle.
@@ -88,6 +114,7 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
       for (int k = 0; k < 2; ++k) {
         RowSums& r = sums[local[k]];
         r.nearest = std::min(r.nearest, nearest);
+        r.master_normal += (D[k][0] + D[k][1]) * master_out;
         for (int l = 0; l < 2; ++l) {
           r.D[snode[l]] += D[k][l];
           r.M[mnode[l]] += M[k][l];
@@ -120,7 +147,13 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
       throw InputError(scene_.file + ": key 'contact.slave': the mortar row of node " + std::to_string(S.nodes[j]) +
                        " on " + f.name + " couples more than " + std::to_string(kMaxRowNodes) +
                        " nodes (a master surface far finer than its slave): expected the finer surface as the slave");
-    row.kin.n = -normal[j];
+    // The row's direction: the master's outward normal averaged with N_j
+    // over the pieces. Where the slave surface is smooth it is minus the
+    // slave's nodal normal to within the angle between the two surfaces;
+    // at a corner of the slave surface (a billet's edge against a punch
+    // face) the averaged nodal normal would tilt the row, and a
+    // frictionless contact would push the master along its face.
+    row.kin.n = r.master_normal.normalized();
     Vec2 gap = Vec2::Zero();
     for (int a = 0; a < row.kin.k; ++a) gap += row.kin.c[a] * x[row.kin.nodes[a]];
     row.kin.gap0 = row.kin.gap_from = gap.dot(row.kin.n);

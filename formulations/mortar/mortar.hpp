@@ -7,7 +7,7 @@
 //   W_j = int N_j w (the covered part of the node's edges),
 // with the integrals D, M of formulations/mortar/mortar_integrals.hpp over
 // the pieces of the slave edges that master edges face, n_j the master's
-// outward normal at j (minus the slave's averaged nodal normal), and the
+// outward normal averaged with N_j over the pieces, and the
 // gap g_j = n_j . (sum_k D_jk x_k - sum_L M_jL x_L) / W_j likewise. The row's
 // weight (its share of the contact surface) is W_j.
 // Standard (not dual) shape functions weight the rows: every coefficient
@@ -44,14 +44,23 @@ class Mortar final : public ContactDiscretization {
              std::vector<RowArea>& out) const override {
     surfaces_.areas(v, rows, in_contact, out);
   }
+  // The nodes' penetrations (a row's gap is a weighted average, so a node
+  // may lie deeper): slave_penetration_rel, the deepest slave node inside
+  // the master surface, and master_penetration_rel, the deepest master
+  // node inside the slave surface, relative to the interface's element
+  // size, in the configuration of the last rows().
+  void columns(std::vector<NamedValue>& out) const override;
 
  private:
   void add_rows(const StepView& v, int iface, std::vector<ContactRow>& out) const;
+  // mm / h: the deepest node of interface side `side` inside the other.
+  double deepest_node(const StepView& v, int iface, int side) const;
 
   const Scene& scene_;
   ContactSurfaces surfaces_;
   std::vector<int> slave_;  // per interface between bodies: the slave side
   double capture_ = 0;
+  double slave_penetration_ = 0, master_penetration_ = 0;
 };
 
 }  // namespace rpfem

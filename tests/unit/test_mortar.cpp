@@ -183,3 +183,96 @@ TEST(Mortar, ARowTooWideIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("contact.slave"), std::string::npos) << e.what();
   }
 }
+
+TEST(MortarIntegrals, CraftedOverlaps) {
+  using std::pow;
+  const Vec2 up(0, 1), xa(0, 0), xb(1, 0);
+  // Full: a master edge right above the slave edge faces all of it, D = M =
+  // the consistent mass [1/3 1/6; 1/6 1/3] (the master's A above a).
+  {
+    const auto p = mortar_piece(xa, xb, up, up, Vec2(0, 0.2), Vec2(1, 0.2));
+    ASSERT_TRUE(p);
+    Mat2 D{}, M{};
+    integrate_piece(xa, xb, Geometry::PlaneStrain, *p, D, M);
+    for (int k = 0; k < 2; ++k)
+      for (int l = 0; l < 2; ++l) {
+        EXPECT_NEAR(D[k][l], k == l ? 1.0 / 3 : 1.0 / 6, 1e-15);
+        EXPECT_NEAR(M[k][l], k == l ? 1.0 / 3 : 1.0 / 6, 1e-15);
+      }
+  }
+  // Touching at a vertex: a master edge [1, 2] begins where the slave edge
+  // ends; a piece of zero length is no piece.
+  EXPECT_FALSE(mortar_piece(xa, xb, up, up, Vec2(1, 0.2), Vec2(2, 0.2)));
+  // A sliver: master [1 - e, 2 + e] faces xi in [1 - e, 1], eta = (x - 1 + e) / (1 + 2 e):
+  //   D_bb = int x^2 = (1 - (1 - e)^3) / 3, D_ab = int x (1 - x), D_aa = e^3 / 3,
+  //   M_bB = int x eta, M_bA = D_bb + D_ab - M_bB (the rows of D and M sum alike).
+  {
+    const double e = 1e-6;
+    const auto p = mortar_piece(xa, xb, up, up, Vec2(1 - e, 0.2), Vec2(2 + e, 0.2));
+    ASSERT_TRUE(p);
+    EXPECT_NEAR(p->xi0, 1 - e, 1e-15);
+    EXPECT_NEAR(p->xi1, 1, 1e-15);
+    Mat2 D{}, M{};
+    integrate_piece(xa, xb, Geometry::PlaneStrain, *p, D, M);
+    // With y = 1 - x over [0, e] (no cancellation):
+    const double Dbb = e - e * e + pow(e, 3) / 3, Dab = e * e / 2 - pow(e, 3) / 3, Daa = pow(e, 3) / 3;
+    const double MbB = (e * e / 2 - pow(e, 3) / 6) / (1 + 2 * e);  // int (1 - y) (e - y) dy / (1 + 2 e)
+    // The piece's ends carry the projection's round-off (1e-16 of 1 in e).
+    EXPECT_NEAR(D[1][1], Dbb, 1e-8 * Dbb);
+    EXPECT_NEAR(D[0][1], Dab, 1e-8 * Dab);
+    EXPECT_NEAR(D[1][0], Dab, 1e-8 * Dab);
+    EXPECT_NEAR(D[0][0], Daa, 1e-8 * Daa);
+    EXPECT_NEAR(M[1][1], MbB, 1e-8 * MbB);
+    EXPECT_NEAR(M[1][0], Dbb + Dab - MbB, 1e-8 * Dbb);
+    EXPECT_NEAR(M[0][0] + M[0][1], Daa + Dab, 1e-8 * Dab);
+  }
+}
+
+TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
+  // The rows hold their coefficients and direction fixed within a step
+  // (the geometry is updated explicitly): g_end = g_from + dt sum_a c_a v_a . n.
+  // Between flat surfaces that is the derivative of the weighted gap
+  // itself, for any deformation of either surface, on non-matching meshes
+  // and an open gap: the coefficients' changes cancel (sum_k D_jk =
+  // sum_L M_jL = W_j at every configuration) and n turns about itself.
+  // Checked against a central difference of the gaps of rows built anew
+  // at x -+ eps v, for the patch test's interface opened by 0.1 mm.
+  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml",
+                {"contact.discretization=mortar", "bodies.upper.mesh.y0=5.1"});
+  const Scene scene = read_scene(file);
+  std::vector<Vec2> v(scene.mesh.x.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Vec2& p = scene.mesh.x[i];
+    const bool upper = p(1) > 5.05;
+    // Different stretches, shears and bending on either side, and a
+    // rotation of the upper block.
+    v[i] = upper ? Vec2(0.03 * p(0) - 0.01 * p(1), -0.02 * p(0) + 0.004 * p(0) * p(0) - 0.5)
+                 : Vec2(-0.02 * p(0) + 0.005 * p(0) * p(1), 0.01 * p(1) - 0.003 * p(0) * p(0));
+  }
+  const auto rows_at = [&](double eps) {
+    auto contact = make_contact(file, scene);
+    std::vector<double> flow;
+    std::vector<Vec2> x = scene.mesh.x;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] += eps * v[i];
+    StepView view = unit::initial_view(scene, flow);
+    view.x = view.x_from = &x;
+    contact->begin_step(view);
+    return dynamic_cast<const ContactModel&>(*contact).rows();
+  };
+  const double eps = 1e-6;
+  const auto r0 = rows_at(0), rp = rows_at(eps), rm = rows_at(-eps);
+  ASSERT_EQ(r0.size(), 11u);
+  ASSERT_EQ(rp.size(), r0.size());
+  ASSERT_EQ(rm.size(), r0.size());
+  for (std::size_t j = 0; j < r0.size(); ++j) {
+    ASSERT_EQ(rp[j].key, r0[j].key);
+    ASSERT_EQ(rm[j].key, r0[j].key);
+    EXPECT_NEAR(r0[j].kin.gap0, 0.1, 1e-14);
+    const double fd = (rp[j].kin.gap0 - rm[j].kin.gap0) / (2 * eps);
+    // 2e-8: the outer row's covered part ends where the master does at
+    // eps = 0, so its gap's second derivative jumps there and the central
+    // difference errs by O(eps) (7e-9 at eps = 1e-6, 7e-8 at 1e-5); round-off
+    // is 1e-15 / eps.
+    EXPECT_NEAR(gap_rate(r0[j].kin, v), fd, 2e-8) << "row of node " << r0[j].key << " at " << scene.mesh.x[r0[j].key].transpose();
+  }
+}
