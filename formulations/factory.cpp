@@ -54,13 +54,8 @@ const std::vector<DiscretizationInfo>& discretizations() {
       {"node_to_segment", "node to segment, one pass: slave nodes against master segments, Hallquist's roles "
                           "(the paper)", false},
       {"two_pass", "node to segment, two pass: each body's nodes against the other's segments", true, true},
-      // Not yet in the suite: its row at a corner of the slave's contact
-      // surface pushes along the corner's averaged normal (Test II's
-      // virtual rigid punch: penetration 0.096 h at 3.6 mm), and Test I
-      // under it is 12.6 % from the single action (docs/notes.md, "Mortar
-      // contact").
       {"mortar", "mortar (segment to segment), one pass: the slave surface's gap and slip weighted by its shape "
-                 "functions over the master segments facing it", true, false, false},
+                 "functions over the master segments facing it", true, false},
   };
   return list;
 }

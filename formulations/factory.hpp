@@ -43,8 +43,6 @@ struct DiscretizationInfo {
   // over-constrains a non-matching interface (Puso and Laursen 2004), so
   // the suite does not combine it with one (a case may still ask).
   bool overconstrains = false;
-  // The suite adds it to the scenes it applies to.
-  bool in_suite = true;
 };
 const std::vector<DiscretizationInfo>& discretizations();
 const DiscretizationInfo* find_discretization(const std::string& name);

@@ -7,6 +7,10 @@ namespace rpfem {
 
 DirectEnforcement::DirectEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
     : scene_(scene), disc_(disc) {
+  if (!disc.node_rows_on_dies())
+    throw InputError(scene.file + ": key 'contact.dies' = 'mortar': enforcement 'direct' holds a node on a die by "
+                     "elimination, one node at a time; expected contact.dies = 'node', or enforcement 'penalty', "
+                     "'auglag' or 'ipopt'");
   for (const auto& f : disc.interfaces()) {
     if (f.die < 0)
       throw InputError(scene.file + ": the contact pair '" + f.name + "' is between bodies; enforcement 'direct' "

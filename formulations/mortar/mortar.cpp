@@ -15,6 +15,9 @@ Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfac
   const std::string slave = settings.text("slave", "finer", {"finer", "body", "with"});
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i)
     slave_.push_back(slave == "finer" ? surfaces_.finer(i) : slave == "body" ? 0 : 1);
+  // Against rigid dies: node-to-die rows (the die's surface is exact) or
+  // mortar rows like those between bodies.
+  die_mortar_ = settings.text("dies", "node", {"node", "mortar"}) == "mortar";
   settings.ignore("switch_tolerance");  // node-to-segment's role switching
 }
 
@@ -23,7 +26,8 @@ void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<s
   slave_penetration_ = master_penetration_ = 0;
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) {
     if (surfaces_.interfaces()[i].die >= 0) {
-      surfaces_.add_die_rows(v, i, out);
+      if (die_mortar_) add_rows(v, i, out);
+      else surfaces_.add_die_rows(v, i, out);
       continue;
     }
     add_rows(v, i, out);
@@ -53,7 +57,8 @@ void Mortar::columns(std::vector<NamedValue>& out) const {
 namespace {
 
 // A slave node's row as it accumulates: D_jk over slave nodes k, M_jL over
-// master nodes L, the master element it overlaps most.
+// master vertices L (mesh nodes, or the die's chord ends), the master
+// element it overlaps most.
 struct RowSums {
   std::map<Index, double> D, M;
   double nearest = INFINITY;  // mm, the least gap at the ends of its pieces
@@ -61,17 +66,39 @@ struct RowSums {
   std::map<Index, double> element_share;  // master element -> sum of M over it
 };
 
-}  // namespace
+// A rigid die's profile at time t as a chain of straight edges: line
+// pieces as they are, arcs as chords whose sagitta R (1 - cos(dtheta / 2))
+// is at most `sagitta` (mm). Walked as the die is (its material on the
+// left), so outward() of an edge points to the workpiece.
+void die_chords(const Die& die, double t, double sagitta, std::vector<Vec2>& xd, ContactSurface& S) {
+  const Vec2 shift = die.motion.displacement(t);
+  xd.clear();
+  S = ContactSurface{};
+  for (const DiePiece& p : die.profile.pieces()) {
+    if (xd.empty() || (xd.back() - (p.a + shift)).norm() > 0) xd.push_back(p.a + shift);
+    if (p.arc) {
+      const Vec2 ra = p.a - p.center, rb = p.b - p.center;
+      const double sweep = std::atan2(ra(0) * rb(1) - ra(1) * rb(0), ra.dot(rb));
+      const double step = 2 * std::acos(std::max(0.0, 1 - sagitta / p.radius));
+      const int n = std::max(1, static_cast<int>(std::ceil(std::abs(sweep) / step)));
+      const double a0 = std::atan2(ra(1), ra(0));
+      for (int k = 1; k < n; ++k) {
+        const double a = a0 + sweep * k / n;
+        xd.push_back(p.center + shift + p.radius * Vec2(std::cos(a), std::sin(a)));
+      }
+    }
+    xd.push_back(p.b + shift);
+  }
+  for (std::size_t k = 0; k + 1 < xd.size(); ++k) S.edges.push_back({Index(k), Index(k + 1), Index(-1)});
+  for (std::size_t k = 0; k < xd.size(); ++k) S.nodes.push_back(Index(k));
+}
 
-void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out) const {
-  const ContactInterface& f = surfaces_.interfaces()[iface];
-  const int s = slave_[iface];
-  const ContactSurface& S = surfaces_.side(iface, s);
-  const ContactSurface& Mst = surfaces_.side(iface, 1 - s);
-  const auto& x = *v.x;
-  const double capture = capture_ * f.h;
-  const std::vector<Vec2> normal = node_normals(x, S);
-  const SegmentGrid grid(x, Mst, capture);
+// The mortar integrals of every slave edge of S against the master edges
+// of Mst (coordinates xm) facing it within reach `capture`, summed per
+// slave node (indexed like S.nodes); normal: the slave's nodal normals.
+std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurface& S, const std::vector<Vec2>& normal,
+                                 const std::vector<Vec2>& xm, const ContactSurface& Mst, Geometry g, double capture) {
+  const SegmentGrid grid(xm, Mst, capture);
   std::vector<RowSums> sums(S.nodes.size());
   std::vector<int> candidates, seen;
   for (const Edge& e : S.edges) {
@@ -97,7 +124,7 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     };
     for (const int m : seen) {
       const Edge& me = Mst.edges[m];
-      const Vec2 &xA = x[me.a], &xB = x[me.b];
+      const Vec2 &xA = xm[me.a], &xB = xm[me.b];
       const Vec2 master_out = outward(xB - xA);
       if (master_out.dot(slave_out) >= 0) continue;  // the master edge does not face the slave
       const auto piece = mortar_piece(xa, xb, normal[a], normal[b], xA, xB);
@@ -106,7 +133,7 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
       if (std::abs(gap_at(0.5 * (piece->xi0 + piece->xi1), 0.5 * (piece->eta0 + piece->eta1), xA, xB)) > capture)
         continue;
       std::array<std::array<double, 2>, 2> D{}, M{};
-      integrate_piece(xa, xb, v.geometry, *piece, D, M);
+      integrate_piece(xa, xb, g, *piece, D, M);
       // Where its surfaces are closest: the gap at the piece's ends.
       const double nearest = std::min(gap_at(piece->xi0, piece->eta0, xA, xB), gap_at(piece->xi1, piece->eta1, xA, xB));
       const std::array<int, 2> local{a, b};
@@ -123,6 +150,26 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
       }
     }
   }
+  return sums;
+}
+
+}  // namespace
+
+void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out) const {
+  const ContactInterface& f = surfaces_.interfaces()[iface];
+  const bool die = f.die >= 0;
+  const int s = die ? 0 : slave_[iface];
+  const ContactSurface& S = surfaces_.side(iface, s);
+  const auto& x = *v.x;
+  const double capture = capture_ * f.h;
+  const std::vector<Vec2> normal = node_normals(x, S);
+  // The master: the other body's surface, or the die's chords (their ends
+  // move with the die).
+  std::vector<Vec2> xd;
+  ContactSurface chords;
+  if (die) die_chords(scene_.dies[f.die], v.time, kChordSagitta * f.h, xd, chords);
+  const std::vector<RowSums> sums =
+      mortar_sums(x, S, normal, die ? xd : x, die ? chords : surfaces_.side(iface, 1 - s), v.geometry, capture);
   std::vector<double> w_full, h;
   surfaces_.node_sizes(x, S, v.geometry, f.h, w_full, h);
   for (std::size_t j = 0; j < S.nodes.size(); ++j) {
@@ -142,11 +189,19 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     row.kin.c[0] = 0;
     bool fits = true;
     for (const auto& [node, d] : r.D) fits = fits && row.kin.add(node, d / W);
-    for (const auto& [node, m] : r.M) fits = fits && row.kin.add(node, -m / W);
+    // Body master: its nodes' weights. Die master: the die's velocity
+    // times sum_L M_jL / W_j (= 1), and its chord ends' positions in the gap.
+    Vec2 gap = Vec2::Zero(), master = Vec2::Zero();
+    double M_sum = 0;
+    for (const auto& [node, m] : r.M) {
+      if (die) master += m / W * xd[node], M_sum += m / W;
+      else fits = fits && row.kin.add(node, -m / W);
+    }
     if (!fits)
       throw InputError(scene_.file + ": key 'contact.slave': the mortar row of node " + std::to_string(S.nodes[j]) +
                        " on " + f.name + " couples more than " + std::to_string(kMaxRowNodes) +
                        " nodes (a master surface far finer than its slave): expected the finer surface as the slave");
+    if (die) row.kin.offset = M_sum * scene_.dies[f.die].motion.velocity(v.time);
     // The row's direction: the master's outward normal averaged with N_j
     // over the pieces. Where the slave surface is smooth it is minus the
     // slave's nodal normal to within the angle between the two surfaces;
@@ -154,14 +209,14 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     // face) the averaged nodal normal would tilt the row, and a
     // frictionless contact would push the master along its face.
     row.kin.n = r.master_normal.normalized();
-    Vec2 gap = Vec2::Zero();
     for (int a = 0; a < row.kin.k; ++a) gap += row.kin.c[a] * x[row.kin.nodes[a]];
-    row.kin.gap0 = row.kin.gap_from = gap.dot(row.kin.n);
+    row.kin.gap0 = row.kin.gap_from = (gap - master).dot(row.kin.n);
     row.gap_normal = row.kin.n;
     row.touch_gap = r.nearest;
     row.lands = false;
-    row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),
-                                          [](auto& p, auto& q) { return p.second < q.second; })->first;
+    if (!die)
+      row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),
+                                            [](auto& p, auto& q) { return p.second < q.second; })->first;
     surfaces_.set_gap_from(v, row);
     out.push_back(row);
   }

@@ -21,8 +21,14 @@
 // gives no gap rate, and a uniform pressure p gives the consistent nodal
 // forces p int N w on both surfaces (the patch test).
 // One pass with a fixed slave (`contact.slave`: the finer surface by
-// default). Against a rigid die the rows are node-to-die (the die's
-// surface is exact): contact/contact_surfaces.hpp.
+// default). Against a rigid die the rows are node-to-die by default (the
+// die's surface is exact: contact/contact_surfaces.hpp), or with
+// `contact.dies = "mortar"` mortar rows as between bodies, the die the
+// master: its profile as straight edges (arcs as chords, kChordSagitta),
+// their ends moving with the die, so a row's velocity weights are the
+// slave's D_jk / W_j and the die's velocity its offset. That makes a
+// comparison of a body against a die with the same body against another
+// body one discretization (Test I's single and double action).
 #pragma once
 #include <string>
 #include <vector>
@@ -40,6 +46,7 @@ class Mortar final : public ContactDiscretization {
   std::string name() const override { return "mortar"; }
   const std::vector<ContactInterface>& interfaces() const override { return surfaces_.interfaces(); }
   void rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>& events) override;
+  bool node_rows_on_dies() const override { return !die_mortar_; }
   void areas(const StepView& v, const std::vector<ContactRow>& rows, const std::vector<char>& in_contact,
              std::vector<RowArea>& out) const override {
     surfaces_.areas(v, rows, in_contact, out);
@@ -61,6 +68,10 @@ class Mortar final : public ContactDiscretization {
   std::vector<int> slave_;  // per interface between bodies: the slave side
   double capture_ = 0;
   double slave_penetration_ = 0, master_penetration_ = 0;
+  bool die_mortar_ = false;  // contact.dies = "mortar"
+  // An arc of a die as chords: their sagitta at most this share of the
+  // element size (the gap's error).
+  static constexpr double kChordSagitta = 1e-4;
 };
 
 }  // namespace rpfem

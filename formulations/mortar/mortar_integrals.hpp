@@ -29,8 +29,9 @@ struct MortarPiece {
 
 // Where master point p projects onto slave edge a-b along the normal
 // interpolated from the nodal normals na, nb: xi with
-// (xa + xi (xb - xa) - p) x (na + xi (nb - na)) = 0 (the root in or
-// nearest to [0, 1]); nothing if the normal is parallel to the edge.
+// (xa + xi (xb - xa) - p) x (na + xi (nb - na)) = 0, of the two roots the
+// one whose point is nearer p; nothing if the normal is parallel to the
+// edge.
 std::optional<double> project_onto_slave(const Vec2& xa, const Vec2& xb, const Vec2& na, const Vec2& nb,
                                          const Vec2& p);
 // Where slave point p projects onto master edge A-B along n: eta with

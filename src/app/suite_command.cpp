@@ -33,8 +33,7 @@ using Job = PoolRun;
 // that applies with the scene's discretization (labelled by the
 // enforcement alone), and with every other discretization that differs
 // from it there (ENFORCEMENT+DISCRETIZATION), except one that over-constrains
-// (two pass) under an exact enforcement (FormulationInfo::exact), and one
-// not yet in the suite (DiscretizationInfo::in_suite).
+// (two pass) under an exact enforcement (FormulationInfo::exact).
 std::vector<std::string> applicable(CaseFile& file, const Scene& scene) {
   bool dies = false, bodies = false;
   for (const auto& p : scene.contact_pairs) (p.with_die() ? dies : bodies) = true;
@@ -45,7 +44,7 @@ std::vector<std::string> applicable(CaseFile& file, const Scene& scene) {
     if ((f.dies || !dies) && (f.bodies || !bodies) && (f.dies || f.bodies)) out.push_back(f.name);
   const std::size_t n = out.size();
   for (const auto& d : discretizations())
-    if (d.name != own && d.in_suite && (bodies || !d.between_bodies_only))
+    if (d.name != own && (bodies || !d.between_bodies_only))
       for (std::size_t i = 0; i < n; ++i)
         if (!(d.overconstrains && find_formulation(out[i])->exact)) out.push_back(out[i] + "+" + d.name);
   return out;

@@ -137,9 +137,14 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
     const Index s = r.kin.nodes[0];
     gap[s] = r.kin.gap0;
     if (!carries(res[i])) continue;
-    for (int a = 0; a < r.kin.k; ++a) out.force[r.kin.nodes[a]] += row_force(r, res[i], a);
+    // A die's load: the row's forces on all its nodes (one node against a
+    // die; the slave's nodes of a mortar row).
     const int die = disc_->interfaces()[r.iface].die;
-    if (die >= 0) die_load[die] += row_force(r, res[i], 0), die_nodes[die].push_back(s);
+    for (int a = 0; a < r.kin.k; ++a) {
+      const Vec2 F = row_force(r, res[i], a);
+      out.force[r.kin.nodes[a]] += F;
+      if (die >= 0) die_load[die] += F, die_nodes[die].push_back(r.kin.nodes[a]);
+    }
     // Pressure and shear over the slave node's share of the surface.
     if (r.weight > 0) pr[s] += res[i].normal / r.weight, sh[s] += res[i].friction / r.weight;
     if (res[i].in_contact) slip[s] = res[i].slip;

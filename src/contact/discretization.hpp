@@ -1,8 +1,7 @@
 // The discretization axis of contact: which rows exist (search, pairing,
 // roles), each row's gap and slip as weights on nodal velocities, and the
-// contact areas. Node-to-segment one pass and two pass today
-// (formulations/node_to_segment); a mortar discretization plugs in here
-// without touching an enforcement.
+// contact areas: node-to-segment one pass and two pass
+// (formulations/node_to_segment), mortar (formulations/mortar).
 #pragma once
 #include <string>
 #include <vector>
@@ -24,6 +23,9 @@ class ContactDiscretization {
   // Contact areas and sticking bounds of `rows` given which are in contact.
   virtual void areas(const StepView& view, const std::vector<ContactRow>& rows, const std::vector<char>& in_contact,
                      std::vector<RowArea>& out) const = 0;
+  // Whether every row against a die is one node's (an enforcement that
+  // holds nodes on dies by elimination needs it).
+  virtual bool node_rows_on_dies() const { return true; }
   // Its own per-step scalars (history.csv): names, then values in order.
   virtual void columns(std::vector<NamedValue>& out) const {}
 };

@@ -60,3 +60,33 @@ TEST(Mortar, PatchTestUnderEveryEnforcementWithEitherSlave) {
                   label.c_str(), rate, exact, spread, imbalance);
     }
 }
+
+// Mortar rows against a rigid die (contact.dies = "mortar"): upsetting
+// between frictionless flat dies (cases/upsetting_dies_frictionless_axisym
+// .toml, 50 %) keeps the top face on the die, so the rows weighted over the
+// face must give the node rows' load at every step, the billet's corner
+// (its normal tilted by the side) included. `direct` cannot hold such rows
+// and says so.
+TEST(Mortar, RowsAgainstARigidDieGiveTheNodeRowsLoad) {
+  const std::string node = run_case("upsetting_dies_frictionless_axisym", "--formulation penalty", 0, "_node");
+  const std::string mortar = run_case("upsetting_dies_frictionless_axisym",
+                                      "--formulation penalty --discretization mortar --set contact.dies=mortar", 0,
+                                      "_mortar");
+  const History hn = read_history(node + "/history.csv"), hm = read_history(mortar + "/history.csv");
+  ASSERT_EQ(hn.rows(), hm.rows());
+  double worst = 0;
+  for (std::size_t i = 0; i < hn.rows(); ++i) {
+    ASSERT_NEAR(hm.at("stroke")[i], hn.at("stroke")[i], 1e-12);
+    worst = std::max(worst, std::abs(hm.at("top_die.Fy")[i] / hn.at("top_die.Fy")[i] - 1));
+  }
+  EXPECT_LT(worst, 1e-6);
+  std::printf("[measured] upsetting, mortar rows on the die against node rows: load %.2e\n", worst);
+  std::string out;
+  const std::string log = accept::test_out_dir("_direct") + ".log";
+  EXPECT_EQ(accept::rpfem("run " + std::string(RPFEM_SOURCE_DIR) +
+                              "/cases/upsetting_dies_frictionless_axisym.toml --quiet --discretization mortar --set "
+                              "contact.dies=mortar --out " + accept::test_out_dir("_direct"),
+                          log, &out),
+            2);
+  EXPECT_NE(out.find("contact.dies"), std::string::npos) << out;
+}

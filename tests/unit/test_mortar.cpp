@@ -228,6 +228,24 @@ TEST(MortarIntegrals, CraftedOverlaps) {
   }
 }
 
+TEST(MortarIntegrals, MasterOnTheSlaveLineWithATiltedEndNormal) {
+  // A flat die touching a flat face at the face's corner node, whose normal
+  // averages the face's and the side's (45 degrees): the die's ends lie on
+  // the slave edge's own line, and the extrapolated normal turns parallel to
+  // that line at xi = 3.41, a false root for both ends. The die faces the
+  // whole edge.
+  const Vec2 xa(9.5, 10), xb(10, 10), na(0, 1), nb = Vec2(1, 1).normalized();
+  const auto xiA = project_onto_slave(xa, xb, na, nb, Vec2(-1, 10));
+  const auto xiB = project_onto_slave(xa, xb, na, nb, Vec2(30, 10));
+  ASSERT_TRUE(xiA && xiB);
+  EXPECT_NEAR(*xiA, -21, 1e-12);
+  EXPECT_NEAR(*xiB, 41, 1e-12);
+  const auto p = mortar_piece(xa, xb, na, nb, Vec2(30, 10), Vec2(-1, 10));  // the die above, walked right to left
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->xi0, 0, 1e-15);
+  EXPECT_NEAR(p->xi1, 1, 1e-15);
+}
+
 TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
   // The rows hold their coefficients and direction fixed within a step
   // (the geometry is updated explicitly): g_end = g_from + dt sum_a c_a v_a . n.
