@@ -18,6 +18,7 @@ Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfac
   // Against rigid dies: node-to-die rows (the die's surface is exact) or
   // mortar rows like those between bodies.
   die_mortar_ = settings.text("dies", "node", {"node", "mortar"}) == "mortar";
+  lumped_ = settings.text("slave_weights", "consistent", {"consistent", "lumped"}) == "lumped";
   settings.ignore("switch_tolerance");  // node-to-segment's role switching
 }
 
@@ -188,7 +189,9 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     row.kin.nodes[0] = S.nodes[j];
     row.kin.c[0] = 0;
     bool fits = true;
-    for (const auto& [node, d] : r.D) fits = fits && row.kin.add(node, d / W);
+    if (lumped_) row.kin.add(S.nodes[j], 1.0);  // sum_k D_jk / W_j
+    else
+      for (const auto& [node, d] : r.D) fits = fits && row.kin.add(node, d / W);
     // Body master: its nodes' weights. Die master: the die's velocity
     // times sum_L M_jL / W_j (= 1), and its chord ends' positions in the gap.
     Vec2 gap = Vec2::Zero(), master = Vec2::Zero();
@@ -212,8 +215,11 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     for (int a = 0; a < row.kin.k; ++a) gap += row.kin.c[a] * x[row.kin.nodes[a]];
     row.kin.gap0 = row.kin.gap_from = (gap - master).dot(row.kin.n);
     row.gap_normal = row.kin.n;
-    row.touch_gap = r.nearest;
-    row.lands = false;
+    // Consistent weights: the row's gap averages the slave's gaps over the
+    // support, so it closes gradually as the contact zone grows over it,
+    // and it may touch while open. Lumped: the slave node's own gap against
+    // the master's weighted surface, which lands as a node does.
+    if (!lumped_) row.touch_gap = r.nearest, row.lands = false;
     if (!die)
       row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),
                                             [](auto& p, auto& q) { return p.second < q.second; })->first;

@@ -20,6 +20,21 @@
 // constraints). Sums: sum_k D_jk = sum_L M_jL = W_j, so a rigid motion
 // gives no gap rate, and a uniform pressure p gives the consistent nodal
 // forces p int N w on both surfaces (the patch test).
+// `contact.slave_weights`: "consistent" (the above) or "lumped", D_jk
+// replaced by its row sum W_j on the diagonal: the slave node's own gap
+// against the master surface averaged with N_j. The sums, and so the patch
+// test, hold alike; the difference is where a contact zone ends. A
+// consistent row's gap averages the slave's nodal gaps over its support,
+// so it closes gradually as the zone grows over the support (no jump in
+// the load where node rows land one by one), but the nodes inside the zone
+// are held only in the mean: the inverse of D alternates in sign, so the
+// open gap of the first node outside sets a wave of nodal gaps inside
+// (Test I's spheres: nodes 0.14 h inside the other sphere at the rim, the
+// pole lifted). A lumped row holds its node (it lands as a node does: 0.02
+// h on Test I), against a master smoothed over the node's support; where
+// a master corner presses into the slave between two of its nodes it is
+// held only by that smoothing (role_switch_flat_punch: jumps of 7 % as
+// under one pass node-to-segment).
 // One pass with a fixed slave (`contact.slave`: the finer surface by
 // default). Against a rigid die the rows are node-to-die by default (the
 // die's surface is exact: contact/contact_surfaces.hpp), or with
@@ -69,6 +84,7 @@ class Mortar final : public ContactDiscretization {
   double capture_ = 0;
   double slave_penetration_ = 0, master_penetration_ = 0;
   bool die_mortar_ = false;  // contact.dies = "mortar"
+  bool lumped_ = false;      // contact.slave_weights = "lumped"
   // An arc of a die as chords: their sagitta at most this share of the
   // element size (the gap's error).
   static constexpr double kChordSagitta = 1e-4;

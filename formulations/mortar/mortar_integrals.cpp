@@ -26,8 +26,8 @@ std::optional<double> project_onto_slave(const Vec2& xa, const Vec2& xb, const V
   }
   const double disc = c1 * c1 - 4 * c2 * c0;
   if (disc < 0) return std::nullopt;
-  // The numerically stable pair of roots; the one whose point is nearer p.
-  // The other is where the interpolated normal, extrapolated, has turned to
+  // The numerically stable pair of roots; the one on the edge, else the one
+  // whose point is nearer p. The other is where the interpolated normal, extrapolated, has turned to
   // point at p: a master node on the slave edge's own line (a flat die
   // touching a flat face whose end node's normal is tilted by a corner)
   // has its true root at its own place on the line, far off the edge, and
@@ -35,6 +35,8 @@ std::optional<double> project_onto_slave(const Vec2& xa, const Vec2& xb, const V
   const double s = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
   const double r1 = s / c2, r2 = s != 0 ? c0 / s : r1;
   const auto distance = [&](double xi) { return (q + xi * d).norm(); };
+  const auto on_edge = [](double xi) { return xi >= -kEndTolerance && xi <= 1 + kEndTolerance; };
+  if (on_edge(r1) != on_edge(r2)) return on_edge(r1) ? r1 : r2;
   return distance(r1) <= distance(r2) ? r1 : r2;
 }
 
@@ -47,23 +49,33 @@ std::optional<double> project_onto_master(const Vec2& xA, const Vec2& xB, const 
 
 std::optional<MortarPiece> mortar_piece(const Vec2& xa, const Vec2& xb, const Vec2& na, const Vec2& nb,
                                         const Vec2& xA, const Vec2& xB) {
-  const auto xiA = project_onto_slave(xa, xb, na, nb, xA), xiB = project_onto_slave(xa, xb, na, nb, xB);
+  // The slave nodes onto the master's line: the part of the master edge
+  // the slave edge's normals sweep over is [eta_a, eta_b] (or reversed).
   const auto eta_a = project_onto_master(xA, xB, na, xa), eta_b = project_onto_master(xA, xB, nb, xb);
-  if (!xiA || !xiB || !eta_a || !eta_b || *xiA == *xiB) return std::nullopt;
-  // The piece's ends on the slave edge: its own nodes or the master nodes'
-  // projections, whichever are inner; eta at each end likewise.
-  const bool forward = *xiA < *xiB;  // eta grows with xi
-  const double lo = forward ? *xiA : *xiB, hi = forward ? *xiB : *xiA;
-  MortarPiece p;
-  if (lo > kEndTolerance) p.xi0 = lo, p.eta0 = forward ? 0.0 : 1.0;
-  else p.xi0 = 0, p.eta0 = *eta_a;
-  if (hi < 1 - kEndTolerance) p.xi1 = hi, p.eta1 = forward ? 1.0 : 0.0;
-  else p.xi1 = 1, p.eta1 = *eta_b;
-  if (!(p.xi1 - p.xi0 > kEndTolerance)) return std::nullopt;
-  // Both ends must lie on the master edge as well.
+  if (!eta_a || !eta_b || *eta_a == *eta_b) return std::nullopt;
   const auto inside = [](double e) { return e >= -kEndTolerance && e <= 1 + kEndTolerance; };
-  if (!inside(p.eta0) || !inside(p.eta1)) return std::nullopt;
-  p.eta0 = std::clamp(p.eta0, 0.0, 1.0), p.eta1 = std::clamp(p.eta1, 0.0, 1.0);
+  // An end of the piece: the slave node where it projects onto the master
+  // edge, else the master node the sweep passes (eta 0 or 1), projected
+  // back onto the slave edge. Only a master node inside the sweep is
+  // projected: one far outside it may have no projection at all.
+  const auto end = [&](double eta_node, double xi_node, double& xi, double& eta) {
+    if (inside(eta_node)) {
+      xi = xi_node, eta = std::clamp(eta_node, 0.0, 1.0);
+      return true;
+    }
+    eta = eta_node < 0 ? 0.0 : 1.0;
+    const auto r = project_onto_slave(xa, xb, na, nb, eta == 0 ? xA : xB);
+    if (!r) return false;
+    xi = *r;
+    return true;
+  };
+  // Both slave nodes off the master edge on the same side: no overlap.
+  if ((*eta_a < 0 && *eta_b < 0) || (*eta_a > 1 && *eta_b > 1)) return std::nullopt;
+  MortarPiece p;
+  if (!end(*eta_a, 0.0, p.xi0, p.eta0) || !end(*eta_b, 1.0, p.xi1, p.eta1)) return std::nullopt;
+  if (!(p.xi0 >= -kEndTolerance && p.xi1 <= 1 + kEndTolerance)) return std::nullopt;
+  p.xi0 = std::clamp(p.xi0, 0.0, 1.0), p.xi1 = std::clamp(p.xi1, 0.0, 1.0);
+  if (!(p.xi1 - p.xi0 > kEndTolerance)) return std::nullopt;
   return p;
 }
 

@@ -12,7 +12,10 @@
 // Projections: a master node onto the slave edge along the slave normal
 // interpolated between the edge's nodal normals (a quadratic in xi), a
 // slave node onto the master edge along its nodal normal (Yang et al. eq.
-// 17-18); the ends of a piece are where these fall inside both edges.
+// 17-18). A piece ends at a slave node where that projects inside the
+// master edge, else at the master node the slave's normals sweep past,
+// projected onto the slave edge (a master node far outside the sweep is
+// never projected: along interpolated normals it may have no projection).
 #pragma once
 #include <array>
 #include <optional>
@@ -30,8 +33,8 @@ struct MortarPiece {
 // Where master point p projects onto slave edge a-b along the normal
 // interpolated from the nodal normals na, nb: xi with
 // (xa + xi (xb - xa) - p) x (na + xi (nb - na)) = 0, of the two roots the
-// one whose point is nearer p; nothing if the normal is parallel to the
-// edge.
+// one in [0, 1], else the one whose point is nearer p; nothing if the
+// normal is parallel to the edge.
 std::optional<double> project_onto_slave(const Vec2& xa, const Vec2& xb, const Vec2& na, const Vec2& nb,
                                          const Vec2& p);
 // Where slave point p projects onto master edge A-B along n: eta with

@@ -14,6 +14,7 @@ NodeToSegment::NodeToSegment(const Scene& scene, CaseSection settings, bool two_
   capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
   settings.ignore("slave");  // the mortar discretization's fixed slave
   settings.ignore("dies");   // the mortar discretization's rows against dies
+  settings.ignore("slave_weights");
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) roles_.push_back({surfaces_.finer(i)});
 }
 

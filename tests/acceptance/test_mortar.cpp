@@ -1,8 +1,9 @@
 // The mortar discretization (formulations/mortar) on the contact patch test
 // (cases/patch_two_blocks.toml: two stacked blocks, non-matching meshes,
 // 10 against 7 edges at the interface, frictionless platens): under every
-// enforcement and with either block as the slave the strain rate and the
-// contact pressure are uniform at every step. The uniform rate itself is
+// enforcement, with consistent or lumped slave weights and either block as
+// the slave the strain rate and the contact pressure are uniform at every
+// step. The uniform rate itself is
 // off the incompressible v / H by the volumetric penalty's compressibility,
 // 1.1e-6 to 1.4e-6 here as in one block without contact
 // (upsetting_frictionless_axisym); the penalty's compliance adds 1e-5 at
@@ -23,42 +24,45 @@ using namespace rpfem;
 using accept::run_case;
 
 TEST(Mortar, PatchTestUnderEveryEnforcementWithEitherSlave) {
-  for (const std::string enf : {"penalty", "auglag", "ipopt"})
-    for (const std::string slave : {"body", "with"}) {
-      const std::string label = enf + ", slave " + (slave == "body" ? "lower (10 edges)" : "upper (7 edges)");
-      const std::string dir = run_case("patch_two_blocks",
-                                       "--formulation " + enf + " --discretization mortar --set contact.slave=" + slave,
-                                       0, "_" + enf + "_" + slave);
-      const std::string h5 = dir + "/result.h5";
-      const std::vector<int> steps = read_h5_steps(h5);
-      ASSERT_EQ(steps.size(), 11u) << label;
-      double rate = 0, exact = 0, spread = 0;
-      for (int k : steps) {
-        const HomogeneousFlowError e = homogeneous_flow_error(h5, k, 1.0, Geometry::Axisymmetric);
-        if (k > 0 || enf != "penalty") exact = std::max(exact, e.strain_rate);
-        char g[64];
-        std::snprintf(g, sizeof g, "/steps/%06d/", k);
-        const auto r = read_h5_dataset(h5, std::string(g) + "strain_rate");
-        const auto [rlo, rhi] = std::minmax_element(r.begin(), r.end());
-        rate = std::max(rate, (*rhi - *rlo) / *rhi);
-        const auto p = read_h5_dataset(h5, std::string(g) + "node/contact_pressure");
-        double lo = INFINITY, hi = 0;
-        for (double q : p)
-          if (q > 0) lo = std::min(lo, q), hi = std::max(hi, q);
-        ASSERT_GT(hi, 0) << label << ", step " << k;
-        spread = std::max(spread, (hi - lo) / hi);
+  for (const std::string weights : {"consistent", "lumped"})
+    for (const std::string enf : {"penalty", "auglag", "ipopt"})
+      for (const std::string slave : {"body", "with"}) {
+        const std::string label =
+            enf + ", " + weights + ", slave " + (slave == "body" ? "lower (10 edges)" : "upper (7 edges)");
+        const std::string dir = run_case("patch_two_blocks",
+                                         "--formulation " + enf + " --discretization mortar --set contact.slave=" +
+                                             slave + " --set contact.slave_weights=" + weights,
+                                         0, "_" + enf + "_" + slave + "_" + weights);
+        const std::string h5 = dir + "/result.h5";
+        const std::vector<int> steps = read_h5_steps(h5);
+        ASSERT_EQ(steps.size(), 11u) << label;
+        double rate = 0, exact = 0, spread = 0;
+        for (int k : steps) {
+          const HomogeneousFlowError e = homogeneous_flow_error(h5, k, 1.0, Geometry::Axisymmetric);
+          if (k > 0 || enf != "penalty") exact = std::max(exact, e.strain_rate);
+          char g[64];
+          std::snprintf(g, sizeof g, "/steps/%06d/", k);
+          const auto r = read_h5_dataset(h5, std::string(g) + "strain_rate");
+          const auto [rlo, rhi] = std::minmax_element(r.begin(), r.end());
+          rate = std::max(rate, (*rhi - *rlo) / *rhi);
+          const auto p = read_h5_dataset(h5, std::string(g) + "node/contact_pressure");
+          double lo = INFINITY, hi = 0;
+          for (double q : p)
+            if (q > 0) lo = std::min(lo, q), hi = std::max(hi, q);
+          ASSERT_GT(hi, 0) << label << ", step " << k;
+          spread = std::max(spread, (hi - lo) / hi);
+        }
+        EXPECT_LT(rate, 1e-6) << label;
+        EXPECT_LT(spread, 1e-6) << label;
+        EXPECT_LT(exact, 2e-6) << label;
+        const History h = read_history(dir + "/history.csv");
+        double imbalance = 0;
+        for (std::size_t i = 0; i < h.rows(); ++i) imbalance = std::max(imbalance, h.at("force_imbalance")[i]);
+        EXPECT_LT(imbalance, 1e-9) << label;
+        std::printf("[measured] mortar patch test, %s: strain rate uniform to %.2e (off v / H by %.2e), contact "
+                    "pressure to %.2e, action-reaction %.2e\n",
+                    label.c_str(), rate, exact, spread, imbalance);
       }
-      EXPECT_LT(rate, 1e-6) << label;
-      EXPECT_LT(spread, 1e-6) << label;
-      EXPECT_LT(exact, 2e-6) << label;
-      const History h = read_history(dir + "/history.csv");
-      double imbalance = 0;
-      for (std::size_t i = 0; i < h.rows(); ++i) imbalance = std::max(imbalance, h.at("force_imbalance")[i]);
-      EXPECT_LT(imbalance, 1e-9) << label;
-      std::printf("[measured] mortar patch test, %s: strain rate uniform to %.2e (off v / H by %.2e), contact "
-                  "pressure to %.2e, action-reaction %.2e\n",
-                  label.c_str(), rate, exact, spread, imbalance);
-    }
 }
 
 // Mortar rows against a rigid die (contact.dies = "mortar"): upsetting

@@ -291,6 +291,7 @@ TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
     // eps = 0, so its gap's second derivative jumps there and the central
     // difference errs by O(eps) (7e-9 at eps = 1e-6, 7e-8 at 1e-5); round-off
     // is 1e-15 / eps.
-    EXPECT_NEAR(gap_rate(r0[j].kin, v), fd, 2e-8) << "row of node " << r0[j].key << " at " << scene.mesh.x[r0[j].key].transpose();
+    EXPECT_NEAR(gap_rate(r0[j].kin, v), fd, 2e-8)
+        << "row of node " << r0[j].key << " at " << scene.mesh.x[r0[j].key].transpose();
   }
 }
