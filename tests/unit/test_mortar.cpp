@@ -246,6 +246,23 @@ TEST(MortarIntegrals, MasterOnTheSlaveLineWithATiltedEndNormal) {
   EXPECT_NEAR(p->xi1, 1, 1e-15);
 }
 
+TEST(MortarIntegrals, ALongMasterEdgeFacesTheWholeSlaveEdge) {
+  // A sphere's edge at the rim of its contact with a flat die (Test I at
+  // 1.55 mm): both slave nodes project onto the die's one long edge, so the
+  // piece is the whole slave edge; the die's far ends are never projected
+  // (along the slave's interpolated normals they have no projection).
+  const Vec2 xa(4.05, 0), xb(4.89, 0.41);
+  const Vec2 tilted = outward(xb - xa), na = (Vec2(0, -1) + tilted).normalized();
+  const Vec2 xA(40, 0), xB(0, 0);  // the die below, walked right to left
+  const auto p = mortar_piece(xa, xb, na, tilted, xA, xB);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->xi0, 0, 1e-15);
+  EXPECT_NEAR(p->xi1, 1, 1e-15);
+  EXPECT_NEAR(p->eta0, *project_onto_master(xA, xB, na, xa), 1e-15);
+  EXPECT_NEAR(p->eta1, *project_onto_master(xA, xB, tilted, xb), 1e-15);
+  EXPECT_GT(p->eta0, p->eta1);  // the die walked against the slave
+}
+
 TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
   // The rows hold their coefficients and direction fixed within a step
   // (the geometry is updated explicitly): g_end = g_from + dt sum_a c_a v_a . n.
