@@ -85,6 +85,10 @@ double load_difference(const History& run, const std::string& column, const Hist
       .worst;
 }
 
+double load_jump(const History& run, const std::string& column, double from) {
+  return curve_jump(run.at("stroke"), magnitudes(run.at(column)), from).worst;
+}
+
 Summary::Summary(const std::string& run_dir) : text_(read_text(run_dir + "/summary.json")) {}
 
 std::optional<std::string> Summary::string(const std::string& key) const {

@@ -21,6 +21,9 @@ History read_history(const std::string& csv_path);
 double load_difference(const History& run, const std::string& column, const History& ref,
                        const std::string& ref_column, double from, double stroke_tolerance);
 
+// The largest jump of |run[column]| from `from` mm (curve_comparison.hpp).
+double load_jump(const History& run, const std::string& column, double from);
+
 // A whole text file ("" if unreadable).
 std::string read_text(const std::string& path);
 // Whether the run's summary.json says it finished.

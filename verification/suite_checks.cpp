@@ -14,6 +14,7 @@ namespace {
 
 const NamedValues<CheckMetric> kMetrics{{"load_difference", CheckMetric::LoadDifference},
                                         {"history_max", CheckMetric::HistoryMax},
+                                        {"load_jump", CheckMetric::LoadJump},
                                         {"finished", CheckMetric::Finished}};
 
 }  // namespace
@@ -34,9 +35,14 @@ std::vector<SuiteCheck> read_suite_checks(const std::string& path) {
       c.reference = s.text("reference", std::nullopt);
       c.column = s.text("load", std::nullopt);
       c.reference_scene = s.text("reference_scene", c.scene);
+      c.reference_variant = s.text("reference_variant", "");
       c.reference_load = s.text("reference_load", c.column);
       c.from = s.real("from", 0.0, Range::nonnegative(), "mm of stroke");
       c.stroke_tolerance = s.real("stroke_tolerance", 0.0, Range::nonnegative(), "mm");
+    }
+    if (c.metric == CheckMetric::LoadJump) {
+      c.column = s.text("load", std::nullopt);
+      c.from = s.real("from", 0.0, Range::nonnegative(), "mm of stroke");
     }
     if (c.metric == CheckMetric::HistoryMax) {
       c.column = s.text("column", std::nullopt);
@@ -95,9 +101,13 @@ std::vector<CheckResult> evaluate_suite_checks(const std::string& suite_dir, con
                         c.floor.c_str(), worst);
           r.note = r.pass ? buf : "";
         }
+      } else if (c.metric == CheckMetric::LoadJump) {
+        r.value = load_jump(read_history(dir + "/history.csv"), c.column, c.from);
+        r.pass = r.value <= c.tolerance;
       } else {
         const History a = read_history(dir + "/history.csv");
-        const History b = read_history(run_dir(suite_dir, c.reference_scene, c.reference) + "/history.csv");
+        const History b =
+            read_history(run_dir(suite_dir, c.reference_scene, c.reference, c.reference_variant) + "/history.csv");
         r.value = load_difference(a, c.column, b, c.reference_load, c.from, c.stroke_tolerance);
         r.pass = r.value <= c.tolerance;
       }

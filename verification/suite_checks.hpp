@@ -3,7 +3,8 @@
 // (runs in DIR/<scene>/<formulation>[/<variant>]/):
 //   metric = "load_difference": the largest relative difference of the
 //            run's |load| from the `reference` formulation's run of
-//            `reference_scene` (default: the same scene), column
+//            `reference_scene` (default: the same scene; its variant
+//            `reference_variant`, default none), column
 //            `reference_load` (default: `load`)
 //            (verification/curve_comparison.hpp; from `from` mm of stroke,
 //            within `stroke_tolerance` mm), at most `tolerance`;
@@ -12,6 +13,10 @@
 //            of the evaluation's own round-off, e.g. kkt_round_off), each
 //            step at most the larger of `tolerance` and its floor value
 //            (the note then says the tolerance itself was out of reach);
+//   metric = "load_jump": the largest step-to-step change of the run's |load|
+//            beyond the trend of its neighbouring steps, relative to the
+//            load (verification/curve_comparison.hpp, curve_jump; from
+//            `from` mm of stroke), at most `tolerance`;
 //   metric = "finished": the run finished (summary.json status).
 #pragma once
 #include <string>
@@ -20,14 +25,14 @@
 namespace rpfem {
 
 // A check's metric, as above.
-enum class CheckMetric { LoadDifference, HistoryMax, Finished };
+enum class CheckMetric { LoadDifference, HistoryMax, LoadJump, Finished };
 // Its name in checks.toml ("load_difference", ...).
 const std::string& metric_name(CheckMetric metric);
 
 struct SuiteCheck {
   std::string scene, formulation, variant;
   CheckMetric metric = CheckMetric::Finished;
-  std::string reference, reference_scene, reference_load, column, floor, issue;
+  std::string reference, reference_scene, reference_variant, reference_load, column, floor, issue;
   double tolerance = 0, from = 0, stroke_tolerance = 0;
 };
 

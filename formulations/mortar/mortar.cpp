@@ -11,10 +11,11 @@ namespace rpfem {
 Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfaces_(scene) {
   capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
   // The slave of each interface between bodies: the finer surface, each
-  // pair's body, or its other (`with`) body.
-  const std::string slave = settings.text("slave", "finer", {"finer", "body", "with"});
+  // pair's body, its other (`with`) body, or both in turn (two half
+  // passes).
+  const std::string slave = settings.text("slave", "finer", {"finer", "body", "with", "both"});
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i)
-    slave_.push_back(slave == "finer" ? surfaces_.finer(i) : slave == "body" ? 0 : 1);
+    slave_.push_back(slave == "finer" ? surfaces_.finer(i) : slave == "body" ? 0 : slave == "with" ? 1 : kBoth);
   // Against rigid dies: node-to-die rows (the die's surface is exact) or
   // mortar rows like those between bodies.
   die_mortar_ = settings.text("dies", "node", {"node", "mortar"}) == "mortar";
@@ -27,12 +28,19 @@ void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<s
   slave_penetration_ = master_penetration_ = 0;
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) {
     if (surfaces_.interfaces()[i].die >= 0) {
-      if (die_mortar_) add_rows(v, i, out);
+      if (die_mortar_) add_rows(v, i, 0, out);
       else surfaces_.add_die_rows(v, i, out);
       continue;
     }
-    add_rows(v, i, out);
     const int s = slave_[i];
+    if (s == kBoth) {
+      // Each side's nodes are a slave's: both count as slave penetrations.
+      add_rows(v, i, 0, out);
+      add_rows(v, i, 1, out);
+      slave_penetration_ = std::max({slave_penetration_, deepest_node(v, i, 0), deepest_node(v, i, 1)});
+      continue;
+    }
+    add_rows(v, i, s, out);
     slave_penetration_ = std::max(slave_penetration_, deepest_node(v, i, s));
     master_penetration_ = std::max(master_penetration_, deepest_node(v, i, 1 - s));
   }
@@ -156,10 +164,9 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
 
 }  // namespace
 
-void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out) const {
+void Mortar::add_rows(const StepView& v, int iface, int s, std::vector<ContactRow>& out) const {
   const ContactInterface& f = surfaces_.interfaces()[iface];
   const bool die = f.die >= 0;
-  const int s = die ? 0 : slave_[iface];
   const ContactSurface& S = surfaces_.side(iface, s);
   const auto& x = *v.x;
   const double capture = capture_ * f.h;
@@ -223,6 +230,7 @@ void Mortar::add_rows(const StepView& v, int iface, std::vector<ContactRow>& out
     if (!die)
       row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),
                                             [](auto& p, auto& q) { return p.second < q.second; })->first;
+    if (!die && slave_[iface] == kBoth) row.friction_share = 0.5;  // each half pass carries half the friction
     surfaces_.set_gap_from(v, row);
     out.push_back(row);
   }

@@ -36,7 +36,8 @@
 // held only by that smoothing (role_switch_flat_punch: jumps of 7 % as
 // under one pass node-to-segment).
 // One pass with a fixed slave (`contact.slave`: the finer surface by
-// default). Against a rigid die the rows are node-to-die by default (the
+// default), or two half passes (`both`: each surface's rows against the
+// other, each with half the friction; symmetric where the problem is). Against a rigid die the rows are node-to-die by default (the
 // die's surface is exact: contact/contact_surfaces.hpp), or with
 // `contact.dies = "mortar"` mortar rows as between bodies, the die the
 // master: its profile as straight edges (arcs as chords, kChordSagitta),
@@ -74,13 +75,15 @@ class Mortar final : public ContactDiscretization {
   void columns(std::vector<NamedValue>& out) const override;
 
  private:
-  void add_rows(const StepView& v, int iface, std::vector<ContactRow>& out) const;
+  // The rows of interface `iface` with side `s` the slave (0 against a die).
+  void add_rows(const StepView& v, int iface, int s, std::vector<ContactRow>& out) const;
   // mm / h: the deepest node of interface side `side` inside the other.
   double deepest_node(const StepView& v, int iface, int side) const;
 
   const Scene& scene_;
   ContactSurfaces surfaces_;
-  std::vector<int> slave_;  // per interface between bodies: the slave side
+  std::vector<int> slave_;  // per interface between bodies: the slave side, or kBoth
+  static constexpr int kBoth = 2;
   double capture_ = 0;
   double slave_penetration_ = 0, master_penetration_ = 0;
   bool die_mortar_ = false;  // contact.dies = "mortar"

@@ -32,13 +32,14 @@ int verify_command(const std::string& suite_dir, const std::string& checks_file,
     const SuiteCheck& c = r.check;
     std::string metric = metric_name(c.metric);
     if (c.metric == CheckMetric::LoadDifference)
-      metric += " vs " + (c.reference_scene == c.scene ? "" : c.reference_scene + " ") + c.reference + " (" + c.column +
-                ")";
-    if (c.metric == CheckMetric::HistoryMax) metric += " " + c.column;
+      metric += " vs " + (c.reference_scene == c.scene ? "" : c.reference_scene + " ") + c.reference +
+                (c.reference_variant.empty() ? "" : " " + c.reference_variant) + " (" + c.column + ")";
+    if (c.metric == CheckMetric::HistoryMax || c.metric == CheckMetric::LoadJump) metric += " " + c.column;
     failed += r.pass ? 0 : 1;
     if (!quiet)
-      std::printf("%-36s %-8s %-34s %10.3e %10.3e  %s%s%s\n", c.scene.c_str(), c.formulation.c_str(), metric.c_str(),
-                  r.value, c.tolerance, r.pass ? "pass" : "FAIL", r.note.empty() ? "" : ": ", r.note.c_str());
+      std::printf("%-36s %-8s %-34s %10.3e %10.3e  %s%s%s\n", c.scene.c_str(),
+                  (c.formulation + (c.variant.empty() ? "" : " " + c.variant)).c_str(), metric.c_str(), r.value,
+                  c.tolerance, r.pass ? "pass" : "FAIL", r.note.empty() ? "" : ": ", r.note.c_str());
     toml::table t{{"scene", c.scene}, {"formulation", c.formulation}, {"variant", c.variant}, {"metric", metric},
                   {"tolerance", c.tolerance}, {"pass", r.pass}, {"issue", c.issue}};
     if (std::isfinite(r.value)) t.insert("value", r.value);  // never NaN in a result file

@@ -28,3 +28,25 @@ TEST(CurveComparison, StrokeToleranceAbsorbsAShiftedStaircase) {
   // [0.93, 1.03] (20.3), relative to B(0.98) = 9.81.
   EXPECT_NEAR(curve_difference(sa, {25}, sb, Fb, 0, 0.05).worst, (25 - 20.3) / (10 * 0.98 / 0.999), 1e-9);
 }
+
+TEST(CurveJump, ScoresAJumpNotATrend) {
+  // A straight line and a parabola have no jump beyond their trend (the
+  // neighbours' mean slope is the step's own on a parabola); one step that
+  // drops the load by 20 % scores about 0.2 / 0.8 there.
+  std::vector<double> s, line, parabola, dropped;
+  for (int i = 0; i <= 20; ++i) {
+    const double x = 0.025 * i;
+    s.push_back(x);
+    line.push_back(70 + 40 * x);
+    parabola.push_back(70 + 40 * x - 20 * x * x);
+    dropped.push_back(x < 0.149 ? 70 + 40 * x : 0.8 * (70 + 40 * x));
+  }
+  EXPECT_LT(curve_jump(s, line, 0).worst, 1e-14);
+  EXPECT_LT(curve_jump(s, parabola, 0).worst, 1e-14);
+  const CurveDifference d = curve_jump(s, dropped, 0);
+  EXPECT_NEAR(d.at_stroke, 0.15, 1e-12);
+  EXPECT_GT(d.worst, 0.2);
+  EXPECT_LT(d.worst, 0.3);
+  // From past the drop, nothing.
+  EXPECT_LT(curve_jump(s, dropped, 0.2).worst, 1e-14);
+}
