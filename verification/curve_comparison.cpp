@@ -43,13 +43,12 @@ CurveDifference curve_difference(const std::vector<double>& stroke_a, const std:
 CurveDifference curve_jump(const std::vector<double>& stroke, const std::vector<double>& load, double from) {
   if (stroke.size() != load.size()) throw std::invalid_argument("curve_jump: stroke and load differ in length");
   CurveDifference out;
-  const auto slope = [&](std::size_t i) {  // over step i: from point i to i + 1
-    const double ds = stroke[i + 1] - stroke[i];
-    return ds > 0 ? (load[i + 1] - load[i]) / ds : 0.0;
-  };
   for (std::size_t i = 1; i + 2 < stroke.size(); ++i) {
     if (stroke[i] < from || load[i + 1] == 0) continue;
-    const double trend = 0.5 * (slope(i - 1) + slope(i + 1));
+    // The neighbouring steps' change per stroke, each weighted by its length
+    // (a short step cut at a landing does not set the trend).
+    const double ds = (stroke[i + 2] - stroke[i + 1]) + (stroke[i] - stroke[i - 1]);
+    const double trend = ds > 0 ? ((load[i + 2] - load[i + 1]) + (load[i] - load[i - 1])) / ds : 0.0;
     const double jump = std::abs(load[i + 1] - load[i] - trend * (stroke[i + 1] - stroke[i])) / std::abs(load[i + 1]);
     ++out.points;
     if (!(jump <= out.worst)) out.worst = jump, out.at_stroke = stroke[i + 1];

@@ -28,7 +28,7 @@ CurveDifference curve_difference(const std::vector<double>& stroke_a, const std:
 
 // The largest jump of a load-stroke curve: over its steps i from `from`
 // mm with a step on either side, the step's change of load beyond the trend
-// of its neighbours, |dF_i - ds_i (dF_{i-1} / ds_{i-1} + dF_{i+1} / ds_{i+1}) / 2|,
+// of its neighbours, |dF_i - ds_i (dF_{i-1} + dF_{i+1}) / (ds_{i-1} + ds_{i+1})|,
 // relative to |F| at the step's end. A smooth curve scores its third
 // difference (zero on a parabola, with equal steps); a load that drops or
 // leaps within one step (a role switch, a ring of nodes landing) scores

@@ -50,3 +50,18 @@ TEST(CurveJump, ScoresAJumpNotATrend) {
   // From past the drop, nothing.
   EXPECT_LT(curve_jump(s, dropped, 0.2).worst, 1e-14);
 }
+
+TEST(CurveJump, AShortStepDoesNotSetTheTrend) {
+  // A straight line with one step cut to 1e-4 of the others (a landing):
+  // no jump; the same short step carrying a 5 % leap scores it, there or
+  // at the step before (whose trend the leap enters).
+  const std::vector<double> s{0, 0.1, 0.2, 0.2001, 0.3, 0.4, 0.5};
+  std::vector<double> F, leap;
+  for (double x : s) F.push_back(100 + 50 * x), leap.push_back(100 + 50 * x + (x > 0.2 ? 5 : 0));
+  EXPECT_LT(curve_jump(s, F, 0).worst, 1e-14);
+  const CurveDifference d = curve_jump(s, leap, 0);
+  EXPECT_GE(d.at_stroke, 0.2 - 1e-12);
+  EXPECT_LE(d.at_stroke, 0.2001 + 1e-12);
+  EXPECT_GT(d.worst, 5 / 115.005 - 1e-6);
+  EXPECT_LT(d.worst, 5 / 110.0 + 1e-6);
+}
