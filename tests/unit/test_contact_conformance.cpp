@@ -3,7 +3,8 @@
 // scenes (after MFEM's tests/unit/linalg/test_constrainedsolver.cpp, one
 // problem through every constrained solver):
 //   a block pressed between two flat dies (friction: none, factor, Coulomb),
-//   two stacked blocks with non-matching meshes (contact between bodies),
+//   two stacked blocks with non-matching meshes (contact between bodies;
+//   friction: none, factor, Coulomb),
 //   one element on a floor die with a known multiplier.
 // Each combination must finish with its contact state settled; its contact
 // forces must sum to its die loads (and cancel between bodies); its terms'
@@ -238,7 +239,13 @@ void PrintTo(const Combination& c, std::ostream* os) {
 
 std::string scene_text(const Combination& c) {
   if (c.scene == "dies") return die_block(c.friction);
-  if (c.scene == "bodies") return kTwoBlocks;
+  if (c.scene == "bodies") {
+    // Friction between the blocks: the pair's own law.
+    const std::string pair = std::string(kTwoBlocks) + "[contact_pairs.friction]\n";
+    if (c.friction == "factor") return pair + "law = \"factor\"\nm = 0.3\n";
+    if (c.friction == "coulomb") return pair + "law = \"coulomb\"\nmu = 0.2\n";
+    return kTwoBlocks;
+  }
   return kOneElement;
 }
 
@@ -257,7 +264,8 @@ std::vector<Combination> combinations() {
           out.push_back({"dies", e.name, d.name, law});
           if (law == "none") out.push_back({"multiplier", e.name, d.name, law});
         }
-      if (e.bodies) out.push_back({"bodies", e.name, d.name, "none"});
+      if (e.bodies)
+        for (const std::string law : {"none", "factor", "coulomb"}) out.push_back({"bodies", e.name, d.name, law});
     }
   }
   return out;
@@ -271,7 +279,8 @@ class Conformance : public testing::TestWithParam<Combination> {};
 
 TEST_P(Conformance, SettlesBalancesAndHasExactDerivatives) {
   const Combination& c = GetParam();
-  ContactRun run(c.scene == "dies" ? die_block(friction_table(c.friction)) : scene_text(c), c.enforcement, c.discretization);
+  ContactRun run(c.scene == "dies" ? die_block(friction_table(c.friction)) : scene_text(c), c.enforcement,
+                 c.discretization);
   ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
   const Scene& scene = *run.scene;
   const auto& steps = run.out.steps;
