@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "mesh/quality.hpp"
 #include "model/boundary.hpp"
@@ -82,7 +83,7 @@ class Runner {
   Runner(const Scene& s, ContactFormulation& c, StepObserver& o)
       : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver) {}
 
-  RunOutcome run();
+  RunOutcome run(const RunState* from);
 
  private:
   // One try of a step of length dt from st: the midpoint's half-step
@@ -287,6 +288,7 @@ State Runner::advance(const State& st, const Solution& sol, double dt) const {
 }
 
 void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts) {
+  out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, step};
   StepRecord r;
   r.step = step;
   r.time = st.time;
@@ -476,23 +478,39 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   return true;
 }
 
-RunOutcome Runner::run() {
+RunOutcome Runner::run(const RunState* from) {
   set_up();
   State st;
   st.x = scene_.mesh.x;
   st.strain.assign(scene_.mesh.num_elements(), {0, 0, 0, 0});
+  std::vector<Vec2> guess(st.x.size(), Vec2::Zero());
+  int first = 0;
+  if (from) {
+    if (from->x.size() != st.x.size() || from->strain.size() != st.strain.size())
+      throw std::invalid_argument("run_scene: the state to resume from is not on the scene's mesh");
+    st.x = from->x, st.strain = from->strain, st.time = from->time, st.stroke = from->stroke;
+    if (from->v.size() == guess.size()) guess = from->v;
+    first = from->step;
+    // The flow stress at the start: the law at the state's strain.
+    for (Index e = 0; e < scene_.mesh.num_elements(); ++e) {
+      double mean = 0;
+      for (double q : st.strain[e]) mean += 0.25 * q;
+      flow_stress_[e] = materials_[e].law->yield(mean);
+    }
+  }
   const bool midpoint = scene_.stepping.integration == TimeIntegration::Midpoint;
-  Solution sol = solve(st, std::vector<Vec2>(st.x.size(), Vec2::Zero()), 0, derived_.dt_nominal, nullptr, !midpoint);
+  Solution sol = solve(st, guess, first, derived_.dt_nominal, nullptr, !midpoint);
   if (!sol.failure.empty()) {
-    out_.reason = "step 0 (initial configuration): " + sol.failure + conditioning_note(sol.rcond, sol.stalled);
+    out_.reason = "step " + std::to_string(first) + (from ? " (resumed)" : " (initial configuration)") + ": " +
+                  sol.failure + conditioning_note(sol.rcond, sol.stalled);
     return finish();
   }
   flow_stress_ = sol.flow_stress;
-  record(st, sol, 0, 0.0, 0);
+  record(st, sol, first, 0.0, 0);
   out_.total_newton_iterations += sol.iterations;
   const double end = scene_.stepping.end_stroke;
   const double eps = 1e-9 * std::max(end, 1.0);
-  for (int step = 1; st.stroke < end - eps; ++step)
+  for (int step = first + 1; st.stroke < end - eps; ++step)
     if (!take_step(st, sol, step)) return finish();
   out_.finished = true;
   return finish();
@@ -500,8 +518,8 @@ RunOutcome Runner::run() {
 
 }  // namespace
 
-RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer) {
-  return Runner(scene, contact, observer).run();
+RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer, const RunState* from) {
+  return Runner(scene, contact, observer).run(from);
 }
 
 }  // namespace rpfem

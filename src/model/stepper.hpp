@@ -65,7 +65,19 @@ class StepObserver {
   virtual void on_retry(int step, double dt, const std::string& why) {}
 };
 
+// Where a run is: the last recorded configuration and its solution. A run
+// on the same bodies resumes from it (run_scene's `from`): after a remesh,
+// with the state moved onto the new mesh.
+struct RunState {
+  std::vector<Vec2> x;                        // mm
+  std::vector<std::array<double, 4>> strain;  // effective strain at the 2x2 points
+  std::vector<Vec2> v;                        // mm/s, the solution there (Newton's start on resuming)
+  double time = 0, stroke = 0;                // s, mm
+  int step = 0;                               // the step recorded there
+};
+
 struct RunOutcome {
+  RunState last;  // the last recorded step's state
   bool finished = false;
   std::string reason;  // why the run stopped early
   int steps = 0;       // recorded steps after step 0
@@ -81,6 +93,11 @@ struct RunOutcome {
   std::vector<std::string> warnings;
 };
 
-RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer);
+// Runs the scene to its end stroke, from its initial configuration or,
+// given `from`, from that state (x and strain on scene.mesh): the run's
+// first solve is then an instantaneous one there, recorded as step
+// from->step again, and the steps go on from it.
+RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer,
+                     const RunState* from = nullptr);
 
 }  // namespace rpfem

@@ -1,0 +1,64 @@
+// Resuming a run from its state (model/stepper.hpp, run_scene's `from`):
+// upsetting between frictionless flat dies under penalty, run to 2 mm at
+// once and in two runs (to 1 mm, then on from its last state), gives the
+// same loads and configuration from 1 mm on. The second run starts without
+// the first's contact state: the enforcement finds the nodes on the die
+// again in its first (instantaneous) solve.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "factory.hpp"
+#include "io/case_file.hpp"
+#include "io/scene_reader.hpp"
+#include "model/stepper.hpp"
+
+using namespace rpfem;
+
+namespace {
+
+struct Collect : StepObserver {
+  std::vector<StepRecord> steps;
+  void on_step(const StepRecord& r) override { steps.push_back(r); }
+};
+
+struct Upsetting {
+  Collect out;
+  RunOutcome outcome;
+  Upsetting(double end, const RunState* from = nullptr) {
+    CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/upsetting_dies_frictionless_axisym.toml",
+                  {"stepping.end_stroke=" + std::to_string(end), "bodies.billet.mesh.nx=6", "bodies.billet.mesh.ny=6",
+                   "stepping.stroke_increment=0.1"});
+    const Scene scene = read_scene(file);
+    const auto contact = make_contact(file, scene, {"penalty", ""});
+    outcome = run_scene(scene, *contact, out, from);
+  }
+};
+
+}  // namespace
+
+TEST(Resume, TwoRunsGiveTheLoadsOfOne) {
+  const Upsetting whole(2.0), first(1.0);
+  ASSERT_TRUE(whole.outcome.finished) << whole.outcome.reason;
+  ASSERT_TRUE(first.outcome.finished) << first.outcome.reason;
+  EXPECT_EQ(first.outcome.last.step, 10);
+  EXPECT_NEAR(first.outcome.last.stroke, 1.0, 1e-12);
+  const Upsetting second(2.0, &first.outcome.last);
+  ASSERT_TRUE(second.outcome.finished) << second.outcome.reason;
+  // The resumed run records step 10 again (its first solve), then 11 to 20.
+  ASSERT_EQ(second.out.steps.size(), 11u);
+  EXPECT_EQ(second.out.steps.front().step, 10);
+  double load = 0, x = 0;
+  for (const StepRecord& r : second.out.steps) {
+    const StepRecord& w = whole.out.steps.at(r.step);
+    ASSERT_EQ(w.step, r.step);
+    EXPECT_NEAR(r.stroke, w.stroke, 1e-12);
+    ASSERT_GT(std::abs(w.loads.at(0)(1)), 1e5);  // the die's load, N
+    load = std::max(load, std::abs(r.loads.at(0)(1) / w.loads.at(0)(1) - 1));
+    for (std::size_t i = 0; i < r.x.size(); ++i) x = std::max(x, (r.x[i] - w.x[i]).norm());
+  }
+  EXPECT_LT(load, 1e-7);
+  EXPECT_LT(x, 1e-9);
+  std::printf("[measured] resumed at 1 mm: load %.2e, nodes %.2e mm from the uninterrupted run\n", load, x);
+}
