@@ -122,42 +122,63 @@ std::vector<double> recover_at_nodes(const Mesh& m, const std::vector<Vec2>& x, 
   return out;
 }
 
+namespace {
+
+// Where point p lies in the old mesh: the element containing it and its
+// parameters there, else the element whose parameter square comes nearest
+// (parameters clamped to it).
+std::pair<Index, Vec2> locate(const Mesh& m, const std::vector<Vec2>& x, const ElementGrid& grid, const Vec2& p) {
+  Index best = -1;
+  Vec2 best_s = Vec2::Zero();
+  double best_miss = std::numeric_limits<double>::infinity();
+  const auto consider = [&](Index o) {
+    const auto Y = corners(m, x, o);
+    const Vec2 s = parameters_of(Y, p);
+    if (!s.allFinite()) return;
+    const Vec2 clamped = s.cwiseMax(-1.0).cwiseMin(1.0);
+    const bool inside = (s - clamped).cwiseAbs().maxCoeff() <= 1e-9;
+    const double miss = inside ? 0.0 : (map_point(Y, clamped(0), clamped(1)) - p).norm();
+    if (miss < best_miss) best = o, best_s = clamped, best_miss = miss;
+  };
+  for (Index o : grid.at(p)) consider(o);
+  if (best < 0 || best_miss > 0)
+    for (Index o = 0; o < m.num_elements() && best_miss > 0; ++o) consider(o);
+  return {best, best_s};
+}
+
+// Nodal values interpolated at p.
+template <class T>
+T interpolate(const Mesh& m, const std::vector<T>& nodal, const std::pair<Index, Vec2>& at) {
+  const auto N = shape(at.second(0), at.second(1));
+  T v = N[0] * nodal[m.quads[at.first][0]];
+  for (int i = 1; i < 4; ++i) v += N[i] * nodal[m.quads[at.first][i]];
+  return v;
+}
+
+}  // namespace
+
 std::vector<GaussValues> transfer_gauss_field(const Mesh& old_mesh, const std::vector<Vec2>& old_x,
                                               const std::vector<GaussValues>& g, const Mesh& new_mesh,
                                               const std::vector<Vec2>& new_x) {
   const std::vector<double> nodal = recover_at_nodes(old_mesh, old_x, g);
   const ElementGrid grid(old_mesh, old_x);
-  const auto value_in = [&](Index e, const Vec2& s) {
-    const auto N = shape(std::clamp(s(0), -1.0, 1.0), std::clamp(s(1), -1.0, 1.0));
-    double v = 0;
-    for (int i = 0; i < 4; ++i) v += N[i] * nodal[old_mesh.quads[e][i]];
-    return v;
-  };
   std::vector<GaussValues> out(new_mesh.quads.size());
   for (Index e = 0; e < new_mesh.num_elements(); ++e) {
     const auto X = corners(new_mesh, new_x, e);
     for (int q = 0; q < 4; ++q) {
       const Vec2 p = map_point(X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
-      // The old element containing p, else the one whose parameter square
-      // comes nearest it.
-      Index best = -1;
-      Vec2 best_s = Vec2::Zero();
-      double best_miss = std::numeric_limits<double>::infinity();
-      const auto consider = [&](Index o) {
-        const auto Y = corners(old_mesh, old_x, o);
-        const Vec2 s = parameters_of(Y, p);
-        if (!s.allFinite()) return;
-        const Vec2 clamped = s.cwiseMax(-1.0).cwiseMin(1.0);
-        const bool inside = (s - clamped).cwiseAbs().maxCoeff() <= 1e-9;
-        const double miss = inside ? 0.0 : (map_point(Y, clamped(0), clamped(1)) - p).norm();
-        if (miss < best_miss) best = o, best_s = s, best_miss = miss;
-      };
-      for (Index o : grid.at(p)) consider(o);
-      if (best < 0 || best_miss > 0)
-        for (Index o = 0; o < old_mesh.num_elements() && best_miss > 0; ++o) consider(o);
-      out[e][q] = value_in(best, best_s);
+      out[e][q] = interpolate(old_mesh, nodal, locate(old_mesh, old_x, grid, p));
     }
   }
+  return out;
+}
+
+std::vector<Vec2> transfer_nodal_field(const Mesh& old_mesh, const std::vector<Vec2>& old_x,
+                                       const std::vector<Vec2>& values, const std::vector<Vec2>& points) {
+  const ElementGrid grid(old_mesh, old_x);
+  std::vector<Vec2> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out[i] = interpolate(old_mesh, values, locate(old_mesh, old_x, grid, points[i]));
   return out;
 }
 

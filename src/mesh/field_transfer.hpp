@@ -33,4 +33,9 @@ std::vector<GaussValues> transfer_gauss_field(const Mesh& old_mesh, const std::v
                                               const std::vector<GaussValues>& g, const Mesh& new_mesh,
                                               const std::vector<Vec2>& new_x);
 
+// A nodal vector field (velocities) at other points: interpolated in the
+// old element that holds each (the nearest, outside every one).
+std::vector<Vec2> transfer_nodal_field(const Mesh& old_mesh, const std::vector<Vec2>& old_x,
+                                       const std::vector<Vec2>& values, const std::vector<Vec2>& points);
+
 }  // namespace rpfem

@@ -12,6 +12,7 @@
 #include "factory.hpp"
 #include "io/case_file.hpp"
 #include "io/scene_reader.hpp"
+#include "model/remesh.hpp"
 #include "model/stepper.hpp"
 
 using namespace rpfem;
@@ -61,4 +62,39 @@ TEST(Resume, TwoRunsGiveTheLoadsOfOne) {
   EXPECT_LT(load, 1e-7);
   EXPECT_LT(x, 1e-9);
   std::printf("[measured] resumed at 1 mm: load %.2e, nodes %.2e mm from the uninterrupted run\n", load, x);
+}
+
+TEST(Resume, RemeshingAHomogeneousFlowChangesNothing) {
+  // The billet remeshed by gmsh at 1 mm (model/remesh.hpp): frictionless
+  // upsetting is homogeneous, so every mesh carries its flow exactly and
+  // the strain (uniform) comes over to round-off; the run on the new mesh
+  // must give the unremeshed run's loads and volume.
+  const Upsetting whole(2.0), first(1.0);
+  ASSERT_TRUE(first.outcome.finished) << first.outcome.reason;
+  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/upsetting_dies_frictionless_axisym.toml",
+                {"stepping.end_stroke=2.0", "bodies.billet.mesh.nx=6", "bodies.billet.mesh.ny=6",
+                 "stepping.stroke_increment=0.1"});
+  const Scene scene = read_scene(file);
+  const RemeshedScene re = remesh_scene(scene, first.outcome.last, {0}, {1.0});
+  ASSERT_NE(re.scene.mesh.num_elements(), scene.mesh.num_elements());  // a different mesh
+  const auto contact = make_contact(file, re.scene, {"penalty", ""});
+  Collect out;
+  const RunOutcome o = run_scene(re.scene, *contact, out, &re.state);
+  ASSERT_TRUE(o.finished) << o.reason;
+  ASSERT_EQ(out.steps.size(), 11u);
+  double load = 0, volume = 0;
+  for (const StepRecord& r : out.steps) {
+    const StepRecord& w = whole.out.steps.at(r.step);
+    ASSERT_GT(std::abs(w.loads.at(0)(1)), 1e5);
+    load = std::max(load, std::abs(r.loads.at(0)(1) / w.loads.at(0)(1) - 1));
+    volume = std::max(volume, std::abs(r.volume / w.volume - 1));
+  }
+  const double at_remesh = std::abs(out.steps.front().volume / whole.out.steps.at(10).volume - 1);
+  EXPECT_LT(load, 1e-6);
+  EXPECT_LT(at_remesh, 1e-12);
+  EXPECT_LT(volume, 1e-7);
+  std::printf("[measured] remeshed at 1 mm (%lld -> %lld elements): load %.2e from the unremeshed run; volume %.2e "
+              "at the remesh, %.2e later\n",
+              static_cast<long long>(scene.mesh.num_elements()), static_cast<long long>(re.scene.mesh.num_elements()),
+              load, at_remesh, volume);
 }

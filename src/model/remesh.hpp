@@ -1,0 +1,26 @@
+// Remeshing bodies of a scene at a run's state, for the run to resume
+// (model/stepper.hpp, RunState): each listed body's outline meshed anew at
+// its current configuration (mesh/outline_mesher.hpp: the outline, its
+// nodes and named sides kept), the other bodies as they are; the state
+// moved onto the new mesh: the effective strain by patch recovery and
+// interpolation (mesh/field_transfer.hpp), the velocities interpolated (a
+// start for Newton only). Velocity groups, tractions and contact pairs name
+// sides, so they hold on the new mesh as they are.
+#pragma once
+#include <vector>
+
+#include "model/scene.hpp"
+#include "model/stepper.hpp"
+
+namespace rpfem {
+
+struct RemeshedScene {
+  Scene scene;     // the scene with its mesh replaced; its coordinates are the state's
+  RunState state;  // on the new mesh: the same time, stroke and step
+};
+
+// size: the target element size per listed body (mm).
+RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const std::vector<int>& bodies,
+                           const std::vector<double>& size);
+
+}  // namespace rpfem
