@@ -506,7 +506,10 @@ RunOutcome Runner::run(const RunState* from) {
     return finish();
   }
   flow_stress_ = sol.flow_stress;
-  record(st, sol, first, 0.0, 0);
+  // A resumed run's first solve starts it: the step it resumes at is on
+  // record already (on its old mesh, after a remesh).
+  if (from) out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, first};
+  else record(st, sol, first, 0.0, 0);
   out_.total_newton_iterations += sol.iterations;
   const double end = scene_.stepping.end_stroke;
   const double eps = 1e-9 * std::max(end, 1.0);

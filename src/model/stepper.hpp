@@ -95,8 +95,8 @@ struct RunOutcome {
 
 // Runs the scene to its end stroke, from its initial configuration or,
 // given `from`, from that state (x and strain on scene.mesh): the run's
-// first solve is then an instantaneous one there, recorded as step
-// from->step again, and the steps go on from it.
+// first solve is then an instantaneous one there, not recorded (step
+// from->step is on record already), and the steps go on from it.
 RunOutcome run_scene(const Scene& scene, ContactFormulation& contact, StepObserver& observer,
                      const RunState* from = nullptr);
 
