@@ -124,7 +124,9 @@ def read_step(out, r, key, stroke):
     with f:
         g = f["steps"][key]
         p = g["node/contact_pressure"][:] if "node/contact_pressure" in g else None
-        return {"stroke": stroke, "x": g["coordinates"][:], "conn": f["mesh/connectivity"][:].astype(int),
+        mesh = g.attrs.get("mesh", "/mesh")  # the step's mesh group (a remesh starts a new one)
+        mesh = mesh.decode() if isinstance(mesh, bytes) else mesh
+        return {"stroke": stroke, "x": g["coordinates"][:], "conn": f[mesh + "/connectivity"][:].astype(int),
                 "rate": g["strain_rate"][:], "v": g["velocity"][:], "p": p}
 
 

@@ -45,33 +45,40 @@ void require_finite(const std::vector<double>& v, const std::string& name) {
 struct ResultWriter::Impl {
   std::string dir;
   hid_t file = -1;
-  Index nn = 0, ne = 0;
+  Index nn = 0, ne = 0;        // the current mesh's nodes and elements
+  std::string mesh = "/mesh";  // the current mesh's group
   std::vector<int> steps;
   std::vector<double> times;
+  std::vector<std::string> step_mesh;            // per step: its mesh group
+  std::vector<std::pair<Index, Index>> step_size;  // per step: nodes, elements
   std::vector<std::vector<std::string>> node_extra, element_extra;
+  void write_mesh(const std::string& group, const Mesh& m);
   void write_xdmf() const;
 };
+
+void ResultWriter::Impl::write_mesh(const std::string& group, const Mesh& m) {
+  H g(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group);
+  std::vector<long long> conn;
+  for (const auto& q : m.quads)
+    for (Index n : q) conn.push_back(n);
+  write_array(g.id, "connectivity", conn.data(), H5T_NATIVE_LLONG, {hsize_t(m.num_elements()), 4});
+  write_array(g.id, "element_body", m.element_body.data(), H5T_NATIVE_INT, {hsize_t(m.num_elements())});
+  write_doubles(g.id, "initial_coordinates", flatten(m.x), 2);
+  std::string names;
+  for (const auto& b : m.body_names) names += (names.empty() ? "" : ";") + b;
+  set_attr_string(g.id, "body_names", names);
+  mesh = group, nn = m.num_nodes(), ne = m.num_elements();
+}
 
 ResultWriter::ResultWriter(const std::string& dir, const Mesh& mesh, const std::string& metadata_json)
     : impl_(std::make_unique<Impl>()) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   std::filesystem::create_directories(dir);
   impl_->dir = dir;
-  impl_->nn = mesh.num_nodes();
-  impl_->ne = mesh.num_elements();
   const std::string path = dir + "/result.h5";
   impl_->file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (impl_->file < 0) throw std::runtime_error("cannot create " + path);
-  H g(H5Gcreate2(impl_->file, "/mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/mesh");
-  std::vector<long long> conn;
-  for (const auto& q : mesh.quads)
-    for (Index n : q) conn.push_back(n);
-  write_array(g.id, "connectivity", conn.data(), H5T_NATIVE_LLONG, {hsize_t(mesh.num_elements()), 4});
-  write_array(g.id, "element_body", mesh.element_body.data(), H5T_NATIVE_INT, {hsize_t(mesh.num_elements())});
-  write_doubles(g.id, "initial_coordinates", flatten(mesh.x), 2);
-  std::string names;
-  for (const auto& b : mesh.body_names) names += (names.empty() ? "" : ";") + b;
-  set_attr_string(g.id, "body_names", names);
+  impl_->write_mesh("/mesh", mesh);
   H md(H5Gcreate2(impl_->file, "/metadata", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/metadata");
   set_attr_string(md.id, "json", metadata_json);
   H st(H5Gcreate2(impl_->file, "/steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/steps");
@@ -83,6 +90,15 @@ ResultWriter::~ResultWriter() {
 }
 
 int ResultWriter::steps_written() const { return static_cast<int>(impl_->steps.size()); }
+
+void ResultWriter::set_mesh(const Mesh& mesh, int first_step) {
+  char name[40];
+  std::snprintf(name, sizeof name, "/meshes/%06d", first_step);
+  if (H5Lexists(impl_->file, "/meshes", H5P_DEFAULT) <= 0)
+    H(H5Gcreate2(impl_->file, "/meshes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/meshes");
+  impl_->write_mesh(name, mesh);
+  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+}
 
 void ResultWriter::update_metadata(const std::string& json) {
   H md(H5Gopen2(impl_->file, "/metadata", H5P_DEFAULT), H5Gclose, "/metadata");
@@ -101,6 +117,8 @@ void ResultWriter::write_step(const StepFields& f) {
   for (const auto& [k, d] : f.node_scalars) require_finite(d, k);
   for (const auto& [k, d] : f.element_scalars) require_finite(d, k);
   if (!std::isfinite(f.time) || !std::isfinite(f.stroke)) throw std::logic_error("non-finite time or stroke");
+  if (static_cast<Index>(f.x->size()) != impl_->nn || static_cast<Index>(f.strain->size()) != impl_->ne)
+    throw std::logic_error("a step's fields are not on the current mesh");
 
   char name[32];
   std::snprintf(name, sizeof name, "/steps/%06d", f.step);
@@ -108,6 +126,7 @@ void ResultWriter::write_step(const StepFields& f) {
   set_attr(g.id, "step", f.step, H5T_NATIVE_INT);
   set_attr(g.id, "time", f.time, H5T_NATIVE_DOUBLE);
   set_attr(g.id, "stroke", f.stroke, H5T_NATIVE_DOUBLE);
+  set_attr_string(g.id, "mesh", impl_->mesh);
   write_doubles(g.id, "coordinates", x, 2);
   write_doubles(g.id, "velocity", v, 2);
   write_doubles(g.id, "velocity_xyz", v3, 3);
@@ -125,6 +144,8 @@ void ResultWriter::write_step(const StepFields& f) {
   }
   impl_->steps.push_back(f.step);
   impl_->times.push_back(f.time);
+  impl_->step_mesh.push_back(impl_->mesh);
+  impl_->step_size.push_back({impl_->nn, impl_->ne});
   impl_->node_extra.push_back(nk);
   impl_->element_extra.push_back(ek);
   // The index of recorded steps and their times, rewritten each step.
@@ -150,11 +171,13 @@ void ResultWriter::Impl::write_xdmf() const {
     char g[32];
     std::snprintf(g, sizeof g, "/steps/%06d", steps[i]);
     const std::string s(g);
+    // Each step on its own mesh (a remesh starts a new one).
+    const auto [nn, ne] = step_size[i];
     os << "   <Grid Name=\"step " << steps[i] << "\" GridType=\"Uniform\">\n"
        << "    <Time Value=\"" << times[i] << "\"/>\n"
        << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << ne << "\">\n"
        << "     <DataItem Format=\"HDF\" NumberType=\"Int\" Precision=\"8\" Dimensions=\"" << ne
-       << " 4\">result.h5:/mesh/connectivity</DataItem>\n    </Topology>\n"
+       << " 4\">result.h5:" << step_mesh[i] << "/connectivity</DataItem>\n    </Topology>\n"
        << "    <Geometry GeometryType=\"XY\">\n";
     item(s + "/coordinates", nn, 2);
     os << "    </Geometry>\n    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n";

@@ -39,6 +39,10 @@ class ResultWriter {
   ResultWriter(const ResultWriter&) = delete;
   ResultWriter& operator=(const ResultWriter&) = delete;
 
+  // A remesh: the steps from first_step on are on `mesh` (its coordinates
+  // the remesh's configuration), stored as /meshes/NNNNNN (first_step);
+  // each step group names its mesh (attribute "mesh").
+  void set_mesh(const Mesh& mesh, int first_step);
   void write_step(const StepFields& f);          // result.h5 + result.xdmf
   void update_metadata(const std::string& json);  // rewrite /metadata/json
   int steps_written() const;

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <hdf5.h>
+
 #include "io/result_writer.hpp"
 #include "mesh/generate.hpp"
 #include "results.hpp"
@@ -74,4 +76,56 @@ TEST(HistoryWriter, RowsAndValidation) {
   EXPECT_EQ(r.at("load")[1], -2.25e5);
   write_text_atomically(p, "x\n");
   EXPECT_EQ(read_text(p), "x\n");
+}
+
+TEST(ResultWriter, ARemeshStartsANewMesh) {
+  // Steps 0 and 1 on a 2 x 1 mesh, steps 2 and 3 on a 3 x 2 one: result.h5
+  // keeps both meshes, each step names its own, and the XDMF grid of each
+  // step takes its topology from that mesh.
+  const std::string dir = (std::filesystem::temp_directory_path() / "rpfem_writer_remesh_test").string();
+  std::filesystem::remove_all(dir);
+  const Mesh a = make_rectangle("b", {0, 0, 2, 1, 2, 1}), b = make_rectangle("b", {0, 0, 2, 1, 3, 2});
+  {
+    ResultWriter w(dir, a, "{}");
+    for (int s = 0; s < 4; ++s) {
+      const Mesh& m = s < 2 ? a : b;
+      if (s == 2) w.set_mesh(b, 2);
+      std::vector<Vec2> x = m.x, v(m.x.size(), Vec2(0, -1));
+      std::vector<double> e(m.quads.size(), 0.1);
+      StepFields f;
+      f.step = s;
+      f.time = s;
+      f.x = &x, f.v = &v, f.strain_rate = &e, f.strain = &e, f.mean_stress = &e;
+      w.write_step(f);
+      if (s == 3) {  // fields of the old mesh no longer fit
+        std::vector<Vec2> old_x = a.x;
+        std::vector<double> old_e(a.quads.size(), 0.1);
+        f.step = 4, f.x = &old_x, f.v = &old_x, f.strain_rate = &old_e, f.strain = &old_e, f.mean_stress = &old_e;
+        EXPECT_THROW(w.write_step(f), std::logic_error);
+      }
+    }
+  }
+  const std::string h5 = dir + "/result.h5";
+  EXPECT_EQ(read_h5_steps(h5), (std::vector<int>{0, 1, 2, 3}));
+  std::vector<unsigned long long> shape;
+  read_h5_dataset(h5, "/meshes/000002/connectivity", &shape);
+  EXPECT_EQ(shape, (std::vector<unsigned long long>{6, 4}));
+  read_h5_dataset(h5, "/steps/000003/coordinates", &shape);
+  EXPECT_EQ(shape, (std::vector<unsigned long long>{12, 2}));
+  const auto mesh_of = [&](const char* step) {
+    const hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t attr = H5Aopen_by_name(f, step, "mesh", H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t type = H5Aget_type(attr);
+    std::string s(H5Tget_size(type), '\0');
+    H5Aread(attr, type, s.data());
+    H5Tclose(type), H5Aclose(attr), H5Fclose(f);
+    return std::string(s.c_str());
+  };
+  EXPECT_EQ(mesh_of("/steps/000001"), "/mesh");
+  EXPECT_EQ(mesh_of("/steps/000002"), "/meshes/000002");
+  const std::string xdmf = read_text(dir + "/result.xdmf");
+  EXPECT_NE(xdmf.find("NumberOfElements=\"2\">"), std::string::npos);
+  EXPECT_NE(xdmf.find("NumberOfElements=\"6\">"), std::string::npos);
+  EXPECT_NE(xdmf.find("Dimensions=\"6 4\">result.h5:/meshes/000002/connectivity"), std::string::npos);
+  EXPECT_NE(xdmf.find("Dimensions=\"12 2\">result.h5:/steps/000003/coordinates"), std::string::npos);
 }
