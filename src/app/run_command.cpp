@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "app/case_setup.hpp"
+#include "app/remeshing_run.hpp"
 #include "app/run_observer.hpp"
 #include "factory.hpp"
 #include "io/variants.hpp"
@@ -53,7 +54,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
                 q.min_scaled_jacobian, q.max_aspect_ratio);
 
   RunObserver obs(scene, out_dir, summary, opt.quiet, monitors);
-  const RunOutcome out = run_scene(scene, *contact, obs);
+  const RunOutcome out = run_with_remeshing(prepared, opt.formulation, opt.discretization, obs);
   obs.finish(out);
   for (const auto& w : out.warnings) std::fprintf(stderr, "rpfem: warning: %s\n", w.c_str());
   if (!out.finished) {

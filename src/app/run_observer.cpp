@@ -51,6 +51,7 @@ RunObserver::RunObserver(const Scene& scene, const std::string& dir, toml::table
 
 void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::string>& load_names,
                            const std::vector<std::string>& report_names) {
+  if (history_) return;  // a run resumed after a remesh: the files go on
   load_names_ = load_names;
   toml::table derived{{"reference_speed_mm_s", d.reference_speed},
                       {"reference_length_mm", d.reference_length},
@@ -100,6 +101,20 @@ void RunObserver::on_step(const StepRecord& r) {
   row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());
   for (double v : evaluate_monitors(monitors_, r.x)) row.push_back(v);
   history_->write_row(row);
+  if (jump_pending_ && !r.loads.empty() && !last_.loads.empty()) {
+    // The first step after a remesh against the line through the two
+    // steps before it (the last one alone if there is one).
+    const double s0 = before_last_.stroke, s1 = last_.stroke;
+    const Vec2 F1 = last_.loads[0];
+    const Vec2 F0 = before_last_.loads.empty() ? F1 : before_last_.loads[0];
+    const Vec2 line = s1 > s0 ? F1 + (F1 - F0) * ((r.stroke - s1) / (s1 - s0)) : F1;
+    const double jump = line.norm() > 0 ? (r.loads[0] - line).norm() / line.norm() : 0.0;
+    auto* entry = remeshes_.back().as_table();
+    entry->insert_or_assign("load_jump", jump);
+    summary_.insert_or_assign("remeshes", remeshes_);
+    std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << ",remesh load jump " << jump << "\n";
+    jump_pending_ = false;
+  }
   if (!r.events.empty()) {
     std::ofstream ev(events_path_, std::ios::app);
     for (const auto& e : r.events) ev << r.step << "," << r.time << "," << e << "\n";
@@ -108,6 +123,7 @@ void RunObserver::on_step(const StepRecord& r) {
     writer_->write_step(fields(r));
     last_field_step_ = r.step;
   }
+  before_last_ = std::move(last_);
   last_ = r;
   last_step_ = r.step;
   if (!quiet_ && (r.step % std::max(1, expected_steps_ / 20) == 0 || r.step == expected_steps_)) {
@@ -120,6 +136,30 @@ void RunObserver::on_step(const StepRecord& r) {
     std::fflush(stdout);
   }
   if (r.step % 10 == 0) write_summary();
+}
+
+void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, const RemeshChange& c) {
+  const Mesh& m = re.scene.mesh;
+  writer_->set_mesh(m, last_step_ + 1);
+  remap_monitors(monitors_, m, re.kept);
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "remesh (%s): %lld elements, %lld nodes; volume change %.3g, strain integral change %.3g, "
+                "largest strain change %.3g",
+                why.c_str(), (long long)m.num_elements(), (long long)m.num_nodes(), c.volume, c.strain_integral,
+                c.strain_max);
+  std::ofstream(events_path_, std::ios::app) << last_step_ << "," << last_.time << "," << line << "\n";
+  remeshes_.push_back(toml::table{{"step", last_step_},
+                                  {"stroke_mm", last_.stroke},
+                                  {"reason", why},
+                                  {"elements", m.num_elements()},
+                                  {"nodes", m.num_nodes()},
+                                  {"volume_change", c.volume},
+                                  {"strain_integral_change", c.strain_integral},
+                                  {"strain_max_change", c.strain_max}});
+  summary_.insert_or_assign("remeshes", remeshes_);
+  jump_pending_ = true;
+  if (!quiet_) std::printf("  step %5d  %s\n", last_step_, line);
 }
 
 void RunObserver::on_retry(int step, double dt, const std::string& why) {

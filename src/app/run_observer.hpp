@@ -9,6 +9,7 @@
 
 #include "io/monitors.hpp"
 #include "io/result_writer.hpp"
+#include "model/remesh.hpp"
 #include "model/scene.hpp"
 #include "model/stepper.hpp"
 
@@ -22,6 +23,11 @@ class RunObserver final : public StepObserver {
                 const std::vector<std::string>& report_names) override;
   void on_step(const StepRecord& r) override;
   void on_retry(int step, double dt, const std::string& why) override;
+  // A remesh after the last recorded step: the new mesh in result.h5 from
+  // the next step on, the monitors on it, an event and a summary entry;
+  // the load's jump is measured at the next step (against the line through
+  // the two steps before the remesh).
+  void remeshed(const RemeshedScene& re, const std::string& why, const RemeshChange& change);
   // Completes summary.json with the outcome; returns its text.
   std::string finish(const RunOutcome& out);
   const std::string& dir() const { return dir_; }
@@ -41,7 +47,9 @@ class RunObserver final : public StepObserver {
   std::chrono::steady_clock::time_point t0_;
   double initial_volume_ = 0, max_volume_change_ = 0, min_quality_ = 1;
   int last_field_step_ = -1, expected_steps_ = 1, last_step_ = 0;
-  StepRecord last_;
+  StepRecord last_, before_last_;
+  toml::array remeshes_;
+  bool jump_pending_ = false;
 };
 
 }  // namespace rpfem

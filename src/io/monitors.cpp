@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 
 namespace rpfem {
 
@@ -73,6 +74,18 @@ std::vector<double> evaluate_monitors(const std::vector<Monitor>& monitors, cons
                                                         : 100 * (r / m.initial - 1));
   }
   return v;
+}
+
+void remap_monitors(std::vector<Monitor>& monitors, const Mesh& mesh, const std::vector<Index>& kept) {
+  for (Monitor& m : monitors) {
+    if (m.quantity == Monitor::Quantity::XNear || m.quantity == Monitor::Quantity::YNear) {
+      const Index n = kept.at(m.nodes.at(0));
+      if (n < 0) throw std::runtime_error("monitor '" + m.name + "': its node was remeshed away");
+      m.nodes = {n};
+    } else {
+      m.nodes = mesh.side_nodes(m.side);
+    }
+  }
 }
 
 }  // namespace rpfem

@@ -25,6 +25,10 @@ struct Monitor {
 
 // Reads and validates [[monitors]] against the mesh. Throws InputError.
 std::vector<Monitor> read_monitors(CaseSection root, const Mesh& mesh);
+// After a remesh: each monitor's nodes on the new mesh, the side's nodes
+// again, or (XNear / YNear) its node where the remesh kept it (kept: per
+// old node, the new node at its place). The initial values stay.
+void remap_monitors(std::vector<Monitor>& monitors, const Mesh& mesh, const std::vector<Index>& kept);
 // Values at coordinates x: mm, or the change from the initial value.
 std::vector<double> evaluate_monitors(const std::vector<Monitor>& monitors, const std::vector<Vec2>& x);
 

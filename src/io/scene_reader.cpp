@@ -315,6 +315,17 @@ void read_stepping(CaseSection st, Scene& sc) {
                                                                           : TimeIntegration::Euler;
 }
 
+// [remesh]: off unless enabled; its triggers and target element size.
+void read_remesh(CaseSection r, Scene& sc) {
+  RemeshSpec& m = sc.remesh;
+  m.enabled = r.flag("enabled", false);
+  m.min_scaled_jacobian = r.real("min_scaled_jacobian", 0.3, {0, 1, true, false},
+                                 "remesh after a step whose least scaled Jacobian is below this");
+  m.stroke_interval = r.real("stroke_interval", 0.0, Range::nonnegative(), "mm of stroke between remeshes (0: never)");
+  m.element_size = r.real("element_size", 0.0, Range::nonnegative(), "mm (0: each body's mean initial edge length)");
+  m.max_remeshes = r.integer("max_remeshes", 100, 1, 100000);
+}
+
 }  // namespace
 
 Scene read_scene(CaseFile& file) {
@@ -328,6 +339,7 @@ Scene read_scene(CaseFile& file) {
   for (CaseSection c : root.table_array("contact_pairs")) sc.contact_pairs.push_back(read_contact_pair(c, sc));
   sc.solver = read_solver(root.section("solver"));
   read_stepping(root.required_table("stepping"), sc);
+  read_remesh(root.section("remesh"), sc);
   return sc;
 }
 

@@ -3,6 +3,7 @@
 #include <gmsh.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <stdexcept>
@@ -37,6 +38,11 @@ struct GmshSession {
   GmshSession() {
     gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
+    // One thread: an error in gmsh's OpenMP regions would end the process
+    // instead of reaching the caller.
+    gmsh::option::setNumber("General.NumThreads", 1);
+    gmsh::option::setNumber("Mesh.Algorithm", 6);       // frontal-Delaunay
+    gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1);  // Blossom
     gmsh::model::add("outline");
   }
   ~GmshSession() { gmsh::finalize(); }
@@ -48,24 +54,58 @@ double signed_area(const std::vector<Vec2>& x, const std::array<Index, 4>& q) {
   return 0.5 * a;
 }
 
-}  // namespace
-
-OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, double size) {
+OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, int body, double size) {
   const std::string& name = old.body_names.at(body);
   const std::vector<Edge> loop = boundary_loop(old.sides.at(name + ".boundary"));
   const int n = static_cast<int>(loop.size());
 
   GmshSession session;
   // Points 1..n at the loop's nodes, line k + 1 from point k + 1 to the next.
-  for (int k = 0; k < n; ++k) gmsh::model::geo::addPoint(x[loop[k].a](0), x[loop[k].a](1), 0, size, k + 1);
   std::vector<int> lines(n);
+  for (int k = 0; k < n; ++k) gmsh::model::geo::addPoint(x[loop[k].a](0), x[loop[k].a](1), 0, size, k + 1);
   for (int k = 0; k < n; ++k) lines[k] = gmsh::model::geo::addLine(k + 1, (k + 1) % n + 1, k + 1);
   const int surface = gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(lines)});
   gmsh::model::geo::synchronize();
-  gmsh::option::setNumber("Mesh.Algorithm", 6);
-  gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 3);
   gmsh::model::mesh::setRecombine(2, surface);
-  gmsh::model::mesh::generate(2);
+  // Each line in segments of about the target size, their total even (a
+  // mesh of quadrilaterals has an even number of boundary edges; Blossom
+  // leaves a triangle otherwise): the longest segments get one more.
+  std::vector<int> segments(n);
+  int total = 0, longest = 0;
+  for (int k = 0; k < n; ++k) {
+    const double L = (x[loop[k].b] - x[loop[k].a]).norm();
+    segments[k] = std::max(1, static_cast<int>(std::lround(L / size)));
+    total += segments[k];
+    const double Ll = (x[loop[longest].b] - x[loop[longest].a]).norm();
+    if (L / segments[k] > Ll / segments[longest]) longest = k;
+  }
+  if (total % 2) ++segments[longest];
+  for (int k = 0; k < n; ++k) gmsh::model::mesh::setTransfiniteCurve(lines[k], segments[k] + 1);
+  // Blossom matching at the target size on frontal-Delaunay's triangles,
+  // else on Delaunay's or MeshAdapt's (Mesh.Algorithm 5, 1); should each
+  // leave a triangle, the mesh at twice the size inside split into
+  // quadrilaterals (every element into 3 or 4; the outline's segments too,
+  // so a later remesh keeps twice as many outline nodes).
+  const auto all_quads = [] {
+    std::vector<int> types;
+    std::vector<std::vector<std::size_t>> tags, nodes;
+    gmsh::model::mesh::getElements(types, tags, nodes, 2);
+    return types.size() == 1 && types[0] == 3;
+  };
+  bool done = false;
+  for (const int algorithm : {6, 5, 1}) {
+    gmsh::model::mesh::clear();
+    gmsh::option::setNumber("Mesh.Algorithm", algorithm);
+    gmsh::model::mesh::generate(2);
+    if ((done = all_quads())) break;
+  }
+  if (!done) {
+    gmsh::model::mesh::clear();
+    gmsh::option::setNumber("Mesh.Algorithm", 6);
+    gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
+    for (int k = 0; k < n; ++k) gmsh::model::mesh::setSize({{0, k + 1}}, 2 * size);
+    gmsh::model::mesh::generate(2);
+  }
 
   OutlineMesh out;
   Mesh& m = out.mesh;
@@ -134,6 +174,16 @@ OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, 
     }
   }
   return out;
+}
+
+}  // namespace
+
+OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, double size) {
+  try {
+    return mesh_outline_with_gmsh(old, x, body, size);
+  } catch (const std::string& e) {  // gmsh reports its errors by throwing their text
+    throw std::runtime_error("remeshing: gmsh: " + e);
+  }
 }
 
 }  // namespace rpfem

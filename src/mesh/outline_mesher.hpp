@@ -8,10 +8,13 @@
 // side is rebuilt on the new mesh along the same edges. Edges longer than
 // the target size get nodes on them. The inside is meshed by gmsh's
 // frontal-Delaunay algorithm (Mesh.Algorithm 6) recombined into
-// quadrilaterals by its full-quad Blossom matching (Mesh.
-// RecombinationAlgorithm 3). Not frontal-Delaunay for quads (Mesh.
-// Algorithm 8): Debian's gmsh 4.8.4 crashes in it (its cross field's
-// octree) on the outlines tried.
+// quadrilaterals by Blossom matching (Mesh.RecombinationAlgorithm 1); where
+// that leaves a triangle (an odd number of outline edges), the mesh at twice
+// the size split into quadrilaterals (Mesh.SubdivisionAlgorithm 1). Not
+// frontal-Delaunay for quads (Mesh.Algorithm 8): Debian's gmsh 4.8.4
+// crashes in it (its cross field's octree); not the full-quad Blossom
+// (RecombinationAlgorithm 3): it halves each outline line's 1D mesh, which
+// a line of one element cannot, and throws inside an OpenMP region.
 #pragma once
 #include <string>
 #include <vector>

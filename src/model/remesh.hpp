@@ -17,7 +17,16 @@ namespace rpfem {
 struct RemeshedScene {
   Scene scene;     // the scene with its mesh replaced; its coordinates are the state's
   RunState state;  // on the new mesh: the same time, stroke and step
+  std::vector<Index> kept;  // per old node: the new node at its place (-1: an inner node remeshed away)
 };
+
+// What a remesh changed (events.csv, summary.json): relative changes of the
+// bodies' volume, of the integral of the effective strain over them, and of
+// its largest value at a Gauss point.
+struct RemeshChange {
+  double volume = 0, strain_integral = 0, strain_max = 0;
+};
+RemeshChange remesh_change(const Scene& before, const RunState& old_state, const RemeshedScene& after);
 
 // size: the target element size per listed body (mm).
 RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const std::vector<int>& bodies,

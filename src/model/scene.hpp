@@ -87,6 +87,19 @@ struct SteppingSpec {
   }
 };
 
+// [remesh]: when a run meshes its bodies anew (src/model/remesh.hpp; the
+// driver does it, the stepper only stops for it). Off unless asked.
+struct RemeshSpec {
+  bool enabled = false;
+  // After a step whose least scaled Jacobian is below this; and instead
+  // of halving a step in which an element inverts (the last configuration
+  // is remeshed).
+  double min_scaled_jacobian = 0.3;
+  double stroke_interval = 0;  // mm since the last remesh (0: never)
+  double element_size = 0;     // mm (0: each body's mean initial edge length)
+  int max_remeshes = 100;      // then the run stops
+};
+
 struct Scene {
   std::string name;
   std::string file;
@@ -101,6 +114,7 @@ struct Scene {
   std::vector<ContactPair> contact_pairs;
   SolverSpec solver;
   SteppingSpec stepping;
+  RemeshSpec remesh;
   std::string formulation = "none";  // default contact formulation of the scene
   // Largest penetration over the local element size the run accepts
   // without a warning (run.penetration_tolerance).

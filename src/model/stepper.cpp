@@ -95,6 +95,7 @@ class Runner {
     bool factorized = false;  // a failed solve: its least rcond and whether Newton stalled
     double rcond = INFINITY;
     bool stalled = false;
+    bool inverted = false;    // failed: an element inverted in the move
   };
   // Scales, materials, the run's start for the observer.
   void set_up();
@@ -139,6 +140,7 @@ class Runner {
   int min_rcond_step_ = -1, floor_steps_ = 0, worst_floor_step_ = -1;
   double worst_floor_ = 0;
   int penetrating_steps_ = 0, worst_penetration_step_ = -1;
+  double segment_start_stroke_ = 0;  // mm: where this run started (a resume's stroke)
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
 };
 
@@ -437,7 +439,10 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   // its element's corner (the element stays integrable); only a reflex
   // corner beyond round-off is.
   constexpr double kReflexTolerance = 1e-9;
-  if (!(q > -kReflexTolerance)) return "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
+  if (!(q > -kReflexTolerance)) {
+    out.inverted = true;
+    return "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
+  }
   out.sol = solve(out.next, mover->v, step, dt, nullptr, !midpoint);
   if (!out.sol.failure.empty()) return failed(out.sol, out.sol.failure);
   out.moved_by = mover->v;
@@ -458,6 +463,11 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     a = Attempt{};
     const std::string why = attempt(st, sol, step, dt, a);
     if (why.empty()) break;
+    if (a.inverted && scene_.remesh.enabled) {
+      // Remesh the last configuration rather than creep up to the fold.
+      out_.remesh = "step " + std::to_string(step) + ": " + why;
+      return false;
+    }
     if (cuts == scene_.stepping.max_cuts) {
       out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) + " mm failed after " +
                     std::to_string(cuts) + " step halvings: " + why +
@@ -475,6 +485,17 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   out_.total_cuts += cuts;
   out_.steps = step;
   record(st, sol, step, dt, cuts);
+  // Remesh triggers (not at the end of the stroke).
+  const RemeshSpec& rm = scene_.remesh;
+  const double eps = 1e-9 * std::max(scene_.stepping.end_stroke, 1.0);
+  if (rm.enabled && st.stroke < scene_.stepping.end_stroke - eps) {
+    const double q = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
+    if (q < rm.min_scaled_jacobian)
+      out_.remesh = "least scaled Jacobian " + sci(q) + " below remesh.min_scaled_jacobian";
+    else if (rm.stroke_interval > 0 && st.stroke >= segment_start_stroke_ + rm.stroke_interval - eps)
+      out_.remesh = "remesh.stroke_interval reached";
+    if (!out_.remesh.empty()) return false;
+  }
   return true;
 }
 
@@ -489,6 +510,7 @@ RunOutcome Runner::run(const RunState* from) {
     if (from->x.size() != st.x.size() || from->strain.size() != st.strain.size())
       throw std::invalid_argument("run_scene: the state to resume from is not on the scene's mesh");
     st.x = from->x, st.strain = from->strain, st.time = from->time, st.stroke = from->stroke;
+    segment_start_stroke_ = from->stroke;
     if (from->v.size() == guess.size()) guess = from->v;
     first = from->step;
     // The flow stress at the start: the law at the state's strain.

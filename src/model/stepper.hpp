@@ -79,6 +79,9 @@ struct RunState {
 struct RunOutcome {
   RunState last;  // the last recorded step's state
   bool finished = false;
+  // Stopped for a remesh (scene.remesh): why; the driver remeshes `last`
+  // and resumes. Empty otherwise.
+  std::string remesh;
   std::string reason;  // why the run stopped early
   int steps = 0;       // recorded steps after step 0
   int total_newton_iterations = 0;

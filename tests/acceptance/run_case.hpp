@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/types.hpp"
 #include "material/flow_stress.hpp"
 #include "results.hpp"
 
