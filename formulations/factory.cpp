@@ -52,10 +52,12 @@ std::string formulation_names() {
 const std::vector<DiscretizationInfo>& discretizations() {
   static const std::vector<DiscretizationInfo> list{
       {"node_to_segment", "node to segment, one pass: slave nodes against master segments, Hallquist's roles "
-                          "(the paper)", false},
-      {"two_pass", "node to segment, two pass: each body's nodes against the other's segments", true, true},
+                          "(the paper)", false, false, {"capture", "switch_tolerance"}},
+      {"two_pass", "node to segment, two pass: each body's nodes against the other's segments", true, true,
+       {"capture"}},
       {"mortar", "mortar (segment to segment), one pass: the slave surface's gap and slip weighted by its shape "
-                 "functions over the master segments facing it", true, false},
+                 "functions over the master segments facing it", true, false,
+       {"capture", "slave", "slave_weights", "dies"}},
   };
   return list;
 }
@@ -107,10 +109,13 @@ std::unique_ptr<ContactFormulation> make_contact(CaseFile& file, const Scene& sc
   CaseSection contact = file.root().section("contact");
   ContactModelSettings settings;
   settings.landing_control = contact.flag("landing_control", true);
+  // The keys of the discretizations this run does not use are known.
+  for (const auto& d : discretizations())
+    if (name == "none" || d.name != choice.discretization)
+      for (const auto& key : d.keys) contact.ignore(key);
   if (name == "none") {
     if (!scene.contact_pairs.empty())
       throw InputError(file.path() + ": the scene declares contact pairs; enforcement 'none' treats no contact");
-    contact.ignore("capture"), contact.ignore("switch_tolerance");
     return std::make_unique<NoContact>();
   }
   if (scene.contact_pairs.empty())

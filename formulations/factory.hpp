@@ -43,6 +43,8 @@ struct DiscretizationInfo {
   // over-constrains a non-matching interface (Puso and Laursen 2004), so
   // the suite does not combine it with one (a case may still ask).
   bool overconstrains = false;
+  // Its keys in [contact] (the others' are known keys a run does not use).
+  std::vector<std::string> keys;
 };
 const std::vector<DiscretizationInfo>& discretizations();
 const DiscretizationInfo* find_discretization(const std::string& name);

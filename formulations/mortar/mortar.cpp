@@ -20,29 +20,20 @@ Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfac
   // mortar rows like those between bodies.
   die_mortar_ = settings.text("dies", "node", {"node", "mortar"}) == "mortar";
   lumped_ = settings.text("slave_weights", "consistent", {"consistent", "lumped"}) == "lumped";
-  settings.ignore("switch_tolerance");  // node-to-segment's role switching
 }
 
 void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>&) {
   out.clear();
-  slave_penetration_ = master_penetration_ = 0;
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) {
     if (surfaces_.interfaces()[i].die >= 0) {
       if (die_mortar_) add_rows(v, i, 0, out);
       else surfaces_.add_die_rows(v, i, out);
-      continue;
-    }
-    const int s = slave_[i];
-    if (s == kBoth) {
-      // Each side's nodes are a slave's: both count as slave penetrations.
+    } else if (slave_[i] == kBoth) {
       add_rows(v, i, 0, out);
       add_rows(v, i, 1, out);
-      slave_penetration_ = std::max({slave_penetration_, deepest_node(v, i, 0), deepest_node(v, i, 1)});
-      continue;
+    } else {
+      add_rows(v, i, slave_[i], out);
     }
-    add_rows(v, i, s, out);
-    slave_penetration_ = std::max(slave_penetration_, deepest_node(v, i, s));
-    master_penetration_ = std::max(master_penetration_, deepest_node(v, i, 1 - s));
   }
 }
 
@@ -57,10 +48,18 @@ double Mortar::deepest_node(const StepView& v, int iface, int side) const {
   return deepest / f.h;
 }
 
-void Mortar::columns(std::vector<NamedValue>& out) const {
+void Mortar::columns(const StepView* v, std::vector<NamedValue>& out) const {
   if (!surfaces_.any_bodies()) return;
-  out.push_back({"slave_penetration_rel", slave_penetration_});
-  out.push_back({"master_penetration_rel", master_penetration_});
+  double slave = 0, master = 0;
+  for (int i = 0; v && i < static_cast<int>(surfaces_.interfaces().size()); ++i) {
+    if (surfaces_.interfaces()[i].die >= 0) continue;
+    const int s = slave_[i];
+    // Two half passes: both sides' nodes are a slave's.
+    if (s == kBoth) slave = std::max({slave, deepest_node(*v, i, 0), deepest_node(*v, i, 1)});
+    else slave = std::max(slave, deepest_node(*v, i, s)), master = std::max(master, deepest_node(*v, i, 1 - s));
+  }
+  out.push_back({"slave_penetration_rel", slave});
+  out.push_back({"master_penetration_rel", master});
 }
 
 namespace {

@@ -37,8 +37,9 @@
 // under one pass node-to-segment).
 // One pass with a fixed slave (`contact.slave`: the finer surface by
 // default), or two half passes (`both`: each surface's rows against the
-// other, each with half the friction; symmetric where the problem is). Against a rigid die the rows are node-to-die by default (the
-// die's surface is exact: contact/contact_surfaces.hpp), or with
+// other, each with half the friction; symmetric where the problem is).
+// Against a rigid die the rows are node-to-die by default (the die's
+// surface is exact: contact/contact_surfaces.hpp), or with
 // `contact.dies = "mortar"` mortar rows as between bodies, the die the
 // master: its profile as straight edges (arcs as chords, kChordSagitta),
 // their ends moving with the die, so a row's velocity weights are the
@@ -71,8 +72,8 @@ class Mortar final : public ContactDiscretization {
   // may lie deeper): slave_penetration_rel, the deepest slave node inside
   // the master surface, and master_penetration_rel, the deepest master
   // node inside the slave surface, relative to the interface's element
-  // size, in the configuration of the last rows().
-  void columns(std::vector<NamedValue>& out) const override;
+  // size, in the recorded configuration (searched only there).
+  void columns(const StepView* v, std::vector<NamedValue>& out) const override;
 
  private:
   // The rows of interface `iface` with side `s` the slave (0 against a die).
@@ -85,7 +86,6 @@ class Mortar final : public ContactDiscretization {
   std::vector<int> slave_;  // per interface between bodies: the slave side, or kBoth
   static constexpr int kBoth = 2;
   double capture_ = 0;
-  double slave_penetration_ = 0, master_penetration_ = 0;
   bool die_mortar_ = false;  // contact.dies = "mortar"
   bool lumped_ = false;      // contact.slave_weights = "lumped"
   // An arc of a die as chords: their sagitta at most this share of the

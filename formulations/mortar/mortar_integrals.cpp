@@ -7,7 +7,6 @@ namespace rpfem {
 
 namespace {
 
-
 // Parameters within this of an edge's ends count as its ends (a master node
 // on a slave node's normal line).
 constexpr double kEndTolerance = 1e-9;
@@ -27,11 +26,12 @@ std::optional<double> project_onto_slave(const Vec2& xa, const Vec2& xb, const V
   const double disc = c1 * c1 - 4 * c2 * c0;
   if (disc < 0) return std::nullopt;
   // The numerically stable pair of roots; the one on the edge, else the one
-  // whose point is nearer p. The other is where the interpolated normal, extrapolated, has turned to
-  // point at p: a master node on the slave edge's own line (a flat die
-  // touching a flat face whose end node's normal is tilted by a corner)
-  // has its true root at its own place on the line, far off the edge, and
-  // the false one where the normal has turned parallel to the line.
+  // whose point is nearer p. The other is where the interpolated normal,
+  // extrapolated, has turned to point at p: a master node on the slave
+  // edge's own line (a flat die touching a flat face whose end node's
+  // normal a corner tilts) has its true root at its own place on the line,
+  // far off the edge, and a false one where the normal has turned parallel
+  // to the line.
   const double s = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
   const double r1 = s / c2, r2 = s != 0 ? c0 / s : r1;
   const auto distance = [&](double xi) { return (q + xi * d).norm(); };

@@ -12,9 +12,6 @@ NodeToSegment::NodeToSegment(const Scene& scene, CaseSection settings, bool two_
   switch_tol_ = settings.real("switch_tolerance", 3e-2, Range::positive(),
                               "relative to the element size (one pass: the penetration that switches roles)");
   capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
-  settings.ignore("slave");  // the mortar discretization's fixed slave
-  settings.ignore("dies");   // the mortar discretization's rows against dies
-  settings.ignore("slave_weights");
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) roles_.push_back({surfaces_.finer(i)});
 }
 
@@ -83,7 +80,7 @@ void NodeToSegment::add_rows(const StepView& v, int iface, int side,
   }
 }
 
-void NodeToSegment::columns(std::vector<NamedValue>& out) const {
+void NodeToSegment::columns(const StepView*, std::vector<NamedValue>& out) const {
   if (!surfaces_.any_bodies()) return;
   out.push_back({"master_penetration_rel", master_penetration_});
   out.push_back({"role_switches", double(role_switches_)});

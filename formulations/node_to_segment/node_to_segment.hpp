@@ -36,7 +36,7 @@ class NodeToSegment final : public ContactDiscretization {
              std::vector<RowArea>& out) const override {
     surfaces_.areas(v, rows, in_contact, out);
   }
-  void columns(std::vector<NamedValue>& out) const override;
+  void columns(const StepView* v, std::vector<NamedValue>& out) const override;
 
  private:
   struct Roles {

@@ -261,7 +261,7 @@ void ContactModel::columns(const StepView* v, std::vector<NamedValue>& out) cons
     out.push_back({scene_.dies[d].name + ".mean_pressure", area[d] > 0 ? pressing[d] / area[d] : 0.0});
   }
   for (int d : friction_dies_) out.push_back({scene_.dies[d].name + ".neutral_x", live ? neutral_point(*v, d) : 0.0});
-  disc_->columns(out);
+  disc_->columns(v, out);
   enf_->columns(out);
 }
 

@@ -1,9 +1,9 @@
 // The contact interfaces of a scene and their surfaces, shared by the
 // discretizations (node-to-segment, mortar): each [[contact_pairs]] entry's
 // interface (names, die or other body, friction, sizes) with its surfaces
-// (the finer one, between bodies, first taken as the slave); the rows
+// (the finer one, between bodies, first taken as the slave); the node rows
 // against a rigid die (exact: every node of the body's contact sides is a
-// row, whatever the discretization); the slave nodes' lumped areas and
+// row; mortar's own die rows are optional); the slave nodes' lumped areas and
 // local element sizes; and the contact areas and sticking bounds k w over
 // the surface edges whose both ends are in contact.
 #pragma once

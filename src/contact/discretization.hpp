@@ -26,8 +26,9 @@ class ContactDiscretization {
   // Whether every row against a die is one node's (an enforcement that
   // holds nodes on dies by elimination needs it).
   virtual bool node_rows_on_dies() const { return true; }
-  // Its own per-step scalars (history.csv): names, then values in order.
-  virtual void columns(std::vector<NamedValue>& out) const {}
+  // Its own per-step scalars (history.csv): names, then values in order;
+  // v: the configuration recorded (nullptr: the names only).
+  virtual void columns(const StepView* v, std::vector<NamedValue>& out) const {}
 };
 
 }  // namespace rpfem

@@ -4,13 +4,22 @@
 
 namespace rpfem {
 
+namespace {
+constexpr double sx[4] = {-1, 1, 1, -1};
+constexpr double sy[4] = {-1, -1, 1, 1};
+}  // namespace
+
+Eigen::Vector4d quad4_shape(double xi, double eta) {
+  Eigen::Vector4d N;
+  for (int a = 0; a < 4; ++a) N(a) = 0.25 * (1 + sx[a] * xi) * (1 + sy[a] * eta);
+  return N;
+}
+
 Quad4Point quad4_point(const Quad4Coords& X, double xi, double eta) {
-  static constexpr double sx[4] = {-1, 1, 1, -1};
-  static constexpr double sy[4] = {-1, -1, 1, 1};
   Quad4Point p;
+  p.N = quad4_shape(xi, eta);
   Eigen::Matrix<double, 4, 2> dNdxi;
   for (int a = 0; a < 4; ++a) {
-    p.N(a) = 0.25 * (1 + sx[a] * xi) * (1 + sy[a] * eta);
     dNdxi(a, 0) = 0.25 * sx[a] * (1 + sy[a] * eta);
     dNdxi(a, 1) = 0.25 * sy[a] * (1 + sx[a] * xi);
   }

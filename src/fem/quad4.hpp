@@ -30,6 +30,9 @@ inline constexpr std::array<std::array<double, 2>, 4> kGaussPoints2x2{
     {{-kGauss2, -kGauss2}, {kGauss2, -kGauss2}, {kGauss2, kGauss2}, {-kGauss2, kGauss2}}};
 
 Quad4Point quad4_point(const Quad4Coords& X, double xi, double eta);
+// The shape functions alone at (xi, eta), nodes counter-clockwise from
+// (-1, -1).
+Eigen::Vector4d quad4_shape(double xi, double eta);
 
 // Strain-rate matrix; eps = B * v with v = (v1x, v1y, v2x, v2y, ...).
 Mat48 strain_rate_matrix(const Quad4Point& p, Geometry g);

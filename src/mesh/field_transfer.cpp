@@ -11,24 +11,18 @@ namespace rpfem {
 
 namespace {
 
-// Bilinear shape functions at (xi, eta), nodes counter-clockwise from (-1, -1).
-std::array<double, 4> shape(double xi, double eta) {
-  return {0.25 * (1 - xi) * (1 - eta), 0.25 * (1 + xi) * (1 - eta), 0.25 * (1 + xi) * (1 + eta),
-          0.25 * (1 - xi) * (1 + eta)};
+Vec2 map_point(const Quad4Coords& X, double xi, double eta) {
+  const Eigen::Vector4d N = quad4_shape(xi, eta);
+  return N(0) * X[0] + N(1) * X[1] + N(2) * X[2] + N(3) * X[3];
 }
 
-Vec2 map_point(const std::array<Vec2, 4>& X, double xi, double eta) {
-  const auto N = shape(xi, eta);
-  return N[0] * X[0] + N[1] * X[1] + N[2] * X[2] + N[3] * X[3];
-}
-
-std::array<Vec2, 4> corners(const Mesh& m, const std::vector<Vec2>& x, Index e) {
+Quad4Coords corners(const Mesh& m, const std::vector<Vec2>& x, Index e) {
   return {x[m.quads[e][0]], x[m.quads[e][1]], x[m.quads[e][2]], x[m.quads[e][3]]};
 }
 
 // The parameters of p in the element (Newton on the bilinear map); the
 // returned point may lie outside [-1, 1]^2.
-Vec2 parameters_of(const std::array<Vec2, 4>& X, const Vec2& p) {
+Vec2 parameters_of(const Quad4Coords& X, const Vec2& p) {
   Vec2 s = Vec2::Zero();
   for (int it = 0; it < 30; ++it) {
     const double xi = s(0), eta = s(1);
@@ -149,9 +143,9 @@ std::pair<Index, Vec2> locate(const Mesh& m, const std::vector<Vec2>& x, const E
 // Nodal values interpolated at p.
 template <class T>
 T interpolate(const Mesh& m, const std::vector<T>& nodal, const std::pair<Index, Vec2>& at) {
-  const auto N = shape(at.second(0), at.second(1));
-  T v = N[0] * nodal[m.quads[at.first][0]];
-  for (int i = 1; i < 4; ++i) v += N[i] * nodal[m.quads[at.first][i]];
+  const Eigen::Vector4d N = quad4_shape(at.second(0), at.second(1));
+  T v = N(0) * nodal[m.quads[at.first][0]];
+  for (int i = 1; i < 4; ++i) v += N(i) * nodal[m.quads[at.first][i]];
   return v;
 }
 

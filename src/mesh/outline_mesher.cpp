@@ -41,7 +41,6 @@ struct GmshSession {
     // One thread: an error in gmsh's OpenMP regions would end the process
     // instead of reaching the caller.
     gmsh::option::setNumber("General.NumThreads", 1);
-    gmsh::option::setNumber("Mesh.Algorithm", 6);       // frontal-Delaunay
     gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1);  // Blossom
     gmsh::model::add("outline");
   }

@@ -6,11 +6,12 @@
 // ones exactly (the mesher is volume-neutral), every node a boundary
 // condition or contact surface may name stays where it is, and each old
 // side is rebuilt on the new mesh along the same edges. Edges longer than
-// the target size get nodes on them. The inside is meshed by gmsh's
-// frontal-Delaunay algorithm (Mesh.Algorithm 6) recombined into
-// quadrilaterals by Blossom matching (Mesh.RecombinationAlgorithm 1); where
-// that leaves a triangle (an odd number of outline edges), the mesh at twice
-// the size split into quadrilaterals (Mesh.SubdivisionAlgorithm 1). Not
+// the target size get nodes on them, an even number in all. The inside is
+// meshed by gmsh's frontal-Delaunay algorithm (Mesh.Algorithm 6), else
+// Delaunay's (5) or MeshAdapt (1), recombined into quadrilaterals by
+// Blossom matching (Mesh.RecombinationAlgorithm 1); where each leaves a
+// triangle, the mesh at twice the size is split into quadrilaterals
+// (Mesh.SubdivisionAlgorithm 1). Not
 // frontal-Delaunay for quads (Mesh.Algorithm 8): Debian's gmsh 4.8.4
 // crashes in it (its cross field's octree); not the full-quad Blossom
 // (RecombinationAlgorithm 3): it halves each outline line's 1D mesh, which

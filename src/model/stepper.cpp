@@ -96,6 +96,7 @@ class Runner {
     double rcond = INFINITY;
     bool stalled = false;
     bool inverted = false;    // failed: an element inverted in the move
+    double quality = 0;       // the moved configuration's least scaled Jacobian
   };
   // Scales, materials, the run's start for the observer.
   void set_up();
@@ -117,7 +118,8 @@ class Runner {
                                        std::vector<std::string>& events);
   State advance(const State& st, const Solution& sol, double dt) const;
   StepView view(const State& st, int step, double dt) const;
-  void record(const State& st, const Solution& sol, int step, double dt, int cuts);
+  // quality: the configuration's least scaled Jacobian.
+  void record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality);
   RunOutcome finish();
   const Die* find_die(const std::string& name) const {
     for (const Die& d : scene_.dies)
@@ -289,8 +291,7 @@ State Runner::advance(const State& st, const Solution& sol, double dt) const {
   return n;
 }
 
-void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts) {
-  out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, step};
+void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality) {
   StepRecord r;
   r.step = step;
   r.time = st.time;
@@ -341,7 +342,7 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.contact_report = std::move(cr.columns);
   r.node_fields = std::move(cr.fields);
   r.events = sol.events;
-  r.min_scaled_jacobian = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
+  r.min_scaled_jacobian = quality;
   obs_.on_step(r);
 }
 
@@ -433,7 +434,7 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   moved.x = moved.x_from = &out.next.x;
   moved.time_from = out.next.time;
   contact_.place_on_surfaces(moved, out.next.x);
-  const double q = mesh_quality(scene_.mesh, out.next.x).min_scaled_jacobian;
+  const double q = out.quality = mesh_quality(scene_.mesh, out.next.x).min_scaled_jacobian;
   // A corner angle of exactly 180 degrees (scaled Jacobian 0) is not an
   // inversion: it is what a side node folding over onto a flat die makes of
   // its element's corner (the element stays integrable); only a reflex
@@ -484,14 +485,13 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   out_.total_newton_iterations += sol.iterations;
   out_.total_cuts += cuts;
   out_.steps = step;
-  record(st, sol, step, dt, cuts);
+  record(st, sol, step, dt, cuts, a.quality);
   // Remesh triggers (not at the end of the stroke).
   const RemeshSpec& rm = scene_.remesh;
   const double eps = 1e-9 * std::max(scene_.stepping.end_stroke, 1.0);
   if (rm.enabled && st.stroke < scene_.stepping.end_stroke - eps) {
-    const double q = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
-    if (q < rm.min_scaled_jacobian)
-      out_.remesh = "least scaled Jacobian " + sci(q) + " below remesh.min_scaled_jacobian";
+    if (a.quality < rm.min_scaled_jacobian)
+      out_.remesh = "least scaled Jacobian " + sci(a.quality) + " below remesh.min_scaled_jacobian";
     else if (rm.stroke_interval > 0 && st.stroke >= segment_start_stroke_ + rm.stroke_interval - eps)
       out_.remesh = "remesh.stroke_interval reached";
     if (!out_.remesh.empty()) return false;
@@ -530,15 +530,21 @@ RunOutcome Runner::run(const RunState* from) {
   flow_stress_ = sol.flow_stress;
   // A resumed run's first solve starts it: the step it resumes at is on
   // record already (on its old mesh, after a remesh).
-  if (from) out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, first};
-  else record(st, sol, first, 0.0, 0);
+  if (!from) record(st, sol, first, 0.0, 0, mesh_quality(scene_.mesh, st.x).min_scaled_jacobian);
   out_.total_newton_iterations += sol.iterations;
   const double end = scene_.stepping.end_stroke;
   const double eps = 1e-9 * std::max(end, 1.0);
+  // The last accepted state, where a run goes on from: take_step leaves st
+  // and sol there when it stops, and out_.steps at its step (recorded, or
+  // the one resumed at).
+  const auto stop = [&] {
+    out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, std::max(first, out_.steps)};
+    return finish();
+  };
   for (int step = first + 1; st.stroke < end - eps; ++step)
-    if (!take_step(st, sol, step)) return finish();
+    if (!take_step(st, sol, step)) return stop();
   out_.finished = true;
-  return finish();
+  return stop();
 }
 
 }  // namespace

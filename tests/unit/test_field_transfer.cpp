@@ -35,11 +35,9 @@ Meshes barrelled() {
 }
 
 Vec2 gauss_point(const Mesh& m, const std::vector<Vec2>& x, Index e, int q) {
-  const double xi = kGaussPoints2x2[q][0], eta = kGaussPoints2x2[q][1];
-  const std::array<double, 4> N{0.25 * (1 - xi) * (1 - eta), 0.25 * (1 + xi) * (1 - eta),
-                                0.25 * (1 + xi) * (1 + eta), 0.25 * (1 - xi) * (1 + eta)};
+  const Eigen::Vector4d N = quad4_shape(kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
   Vec2 p = Vec2::Zero();
-  for (int i = 0; i < 4; ++i) p += N[i] * x[m.quads[e][i]];
+  for (int i = 0; i < 4; ++i) p += N(i) * x[m.quads[e][i]];
   return p;
 }
 
