@@ -10,22 +10,6 @@ namespace rpfem {
 
 namespace {
 
-// Each body's target element size: remesh.element_size, else the body's
-// mean edge length on the initial mesh.
-std::vector<double> element_sizes(const Scene& s) {
-  std::vector<double> total(s.mesh.num_bodies(), 0.0);
-  std::vector<int> count(s.mesh.num_bodies(), 0);
-  for (Index e = 0; e < s.mesh.num_elements(); ++e)
-    for (int i = 0; i < 4; ++i) {
-      total[s.mesh.element_body[e]] += (s.mesh.x[s.mesh.quads[e][(i + 1) % 4]] - s.mesh.x[s.mesh.quads[e][i]]).norm();
-      ++count[s.mesh.element_body[e]];
-    }
-  std::vector<double> size(total.size());
-  for (std::size_t b = 0; b < size.size(); ++b)
-    size[b] = s.remesh.element_size > 0 ? s.remesh.element_size : total[b] / std::max(1, count[b]);
-  return size;
-}
-
 // The totals of a resumed run added to the run so far.
 void add(RunOutcome& run, const RunOutcome& more) {
   run.last = more.last;
@@ -49,9 +33,11 @@ RunOutcome run_with_remeshing(PreparedCase& c, const std::string& formulation, c
                               RunObserver& obs) {
   RunOutcome out = run_scene(*c.scene, *c.contact, obs);
   if (out.remesh.empty()) return out;
-  const std::vector<double> size = element_sizes(*c.scene);
-  std::vector<int> bodies(c.scene->mesh.num_bodies());
-  for (int b = 0; b < static_cast<int>(bodies.size()); ++b) bodies[b] = b;
+  RemeshRequest request;
+  request.bodies = c.scene->remesh.bodies;
+  for (int b : request.bodies) request.size.push_back(c.scene->remesh.size.at(b));
+  request.volume_tolerance = c.scene->remesh.volume_tolerance;
+  request.die_corner_size = c.scene->remesh.die_corner_size;
   // The scenes and formulations of the segments stay alive to the end (a
   // formulation keeps references into its scene).
   std::vector<std::unique_ptr<Scene>> scenes;
@@ -65,7 +51,8 @@ RunOutcome run_with_remeshing(PreparedCase& c, const std::string& formulation, c
     }
     RemeshedScene re;
     try {
-      re = remesh_scene(*current, out.last, bodies, size);
+      request.pinned = obs.pinned_nodes();
+      re = remesh_scene(*current, out.last, request);
     } catch (const std::exception& e) {
       out.reason = "remeshing at step " + std::to_string(out.last.step) + " failed: " + e.what();
       break;

@@ -103,16 +103,19 @@ void RunObserver::on_step(const StepRecord& r) {
   history_->write_row(row);
   if (jump_pending_ && !r.loads.empty() && !last_.loads.empty()) {
     // The first step after a remesh against the line through the two
-    // steps before it (the last one alone if there is one).
+    // steps before it (the last one alone if there is one): besides the
+    // remesh's own jump, a contact event or a short step in that window
+    // moves it.
     const double s0 = before_last_.stroke, s1 = last_.stroke;
     const Vec2 F1 = last_.loads[0];
     const Vec2 F0 = before_last_.loads.empty() ? F1 : before_last_.loads[0];
     const Vec2 line = s1 > s0 ? F1 + (F1 - F0) * ((r.stroke - s1) / (s1 - s0)) : F1;
     const double jump = line.norm() > 0 ? (r.loads[0] - line).norm() / line.norm() : 0.0;
     auto* entry = remeshes_.back().as_table();
-    entry->insert_or_assign("load_jump", jump);
+    entry->insert_or_assign("load_jump_trend", jump);
     summary_.insert_or_assign("remeshes", remeshes_);
-    std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << ",remesh load jump " << jump << "\n";
+    std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << ",remesh next step's load against the trend "
+                                               << jump << "\n";
     jump_pending_ = false;
   }
   if (!r.events.empty()) {
@@ -138,16 +141,30 @@ void RunObserver::on_step(const StepRecord& r) {
   if (r.step % 10 == 0) write_summary();
 }
 
+std::vector<Index> RunObserver::pinned_nodes() const {
+  std::vector<Index> nodes;
+  for (const Monitor& m : monitors_)
+    if (m.quantity == Monitor::Quantity::XNear || m.quantity == Monitor::Quantity::YNear)
+      nodes.insert(nodes.end(), m.nodes.begin(), m.nodes.end());
+  return nodes;
+}
+
 void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, const RemeshChange& c) {
   const Mesh& m = re.scene.mesh;
+  // The remeshed step's fields on their own mesh, whatever output_every
+  // says: the last step on the old mesh is then always on record.
+  if (last_field_step_ != last_step_) {
+    writer_->write_step(fields(last_));
+    last_field_step_ = last_step_;
+  }
   writer_->set_mesh(m, last_step_ + 1);
   remap_monitors(monitors_, m, re.kept);
-  char line[256];
+  char line[512];
   std::snprintf(line, sizeof line,
-                "remesh (%s): %lld elements, %lld nodes; volume change %.3g, strain integral change %.3g, "
-                "largest strain change %.3g",
-                why.c_str(), (long long)m.num_elements(), (long long)m.num_nodes(), c.volume, c.strain_integral,
-                c.strain_max);
+                "remesh (%s): %lld elements, %lld nodes; volume change %.3g (%.3g taken out of the dies' corners "
+                "and put back on the free surface), strain integral change %.3g, largest strain change %.3g",
+                why.c_str(), (long long)m.num_elements(), (long long)m.num_nodes(), c.volume, re.overlap_restored,
+                c.strain_integral, c.strain_max);
   std::ofstream(events_path_, std::ios::app) << last_step_ << "," << last_.time << "," << line << "\n";
   remeshes_.push_back(toml::table{{"step", last_step_},
                                   {"stroke_mm", last_.stroke},
@@ -155,11 +172,24 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
                                   {"elements", m.num_elements()},
                                   {"nodes", m.num_nodes()},
                                   {"volume_change", c.volume},
+                                  {"volume_restored", re.overlap_restored},
                                   {"strain_integral_change", c.strain_integral},
                                   {"strain_max_change", c.strain_max}});
   summary_.insert_or_assign("remeshes", remeshes_);
   jump_pending_ = true;
   if (!quiet_) std::printf("  step %5d  %s\n", last_step_, line);
+}
+
+void RunObserver::on_resumed(const StepRecord& r) {
+  if (remeshes_.empty() || r.step != last_step_ || r.loads.empty() || last_.loads.empty()) return;
+  const Vec2 before = last_.loads[0];
+  // Signed: positive where the new mesh carries the larger load.
+  const double size = before.norm() > 0 ? (r.loads[0] - before).norm() / before.norm() : r.loads[0].norm();
+  const double change = r.loads[0].norm() < before.norm() ? -size : size;
+  remeshes_.back().as_table()->insert_or_assign("load_jump", change);
+  summary_.insert_or_assign("remeshes", remeshes_);
+  std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << ",remesh load jump " << change
+                                             << " (same configuration: new mesh against old)\n";
 }
 
 void RunObserver::on_retry(int step, double dt, const std::string& why) {

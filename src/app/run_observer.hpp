@@ -23,11 +23,17 @@ class RunObserver final : public StepObserver {
                 const std::vector<std::string>& report_names) override;
   void on_step(const StepRecord& r) override;
   void on_retry(int step, double dt, const std::string& why) override;
+  // After a remesh: the load on the new mesh at the configuration of the
+  // remesh against the load recorded there on the old mesh (the remesh's
+  // own load change, no stroke between them).
+  void on_resumed(const StepRecord& r) override;
   // A remesh after the last recorded step: the new mesh in result.h5 from
   // the next step on, the monitors on it, an event and a summary entry;
   // the load's jump is measured at the next step (against the line through
   // the two steps before the remesh).
   void remeshed(const RemeshedScene& re, const std::string& why, const RemeshChange& change);
+  // The nodes the monitors follow (x_near, y_near): a remesh keeps them.
+  std::vector<Index> pinned_nodes() const;
   // Completes summary.json with the outcome; returns its text.
   std::string finish(const RunOutcome& out);
   const std::string& dir() const { return dir_; }

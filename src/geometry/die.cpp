@@ -50,6 +50,31 @@ DieProfile::DieProfile(const std::vector<Vec2>& v, const std::vector<double>& fi
   }
 }
 
+std::vector<Vec2> DieProfile::corner_points(const Vec2& shift, bool with_ends) const {
+  std::vector<Vec2> p;
+  if (pieces_.empty()) return p;
+  if (with_ends) p.push_back(pieces_.front().a + shift);
+  for (std::size_t k = 0; k < pieces_.size(); ++k) {
+    const DiePiece& piece = pieces_[k];
+    if (piece.arc) {
+      const double a0 = std::atan2(piece.a(1) - piece.center(1), piece.a(0) - piece.center(0));
+      double sweep = std::atan2(piece.b(1) - piece.center(1), piece.b(0) - piece.center(0)) - a0;
+      // A fillet turns by less than half a turn: the short way round.
+      if (sweep > kPi) sweep -= 2 * kPi;
+      if (sweep < -kPi) sweep += 2 * kPi;
+      const int n = std::max(1, static_cast<int>(std::ceil(std::abs(sweep) / (kPi / 18))));
+      for (int i = 0; i <= n; ++i) {
+        const double a = a0 + sweep * i / n;
+        p.push_back(piece.center + shift + piece.radius * Vec2(std::cos(a), std::sin(a)));
+      }
+    } else if (k + 1 < pieces_.size() && !pieces_[k + 1].arc) {
+      p.push_back(piece.b + shift);  // two segments meet: a sharp corner
+    }
+  }
+  if (with_ends) p.push_back(pieces_.back().b + shift);
+  return p;
+}
+
 DieProjection DieProfile::project(const Vec2& p, const Vec2& shift) const {
   DieProjection best;
   double best_d2 = INFINITY;

@@ -44,6 +44,11 @@ class DieProfile {
   // Closest point of the profile translated by `shift`.
   DieProjection project(const Vec2& p, const Vec2& shift = Vec2::Zero()) const;
   const std::vector<DiePiece>& pieces() const { return pieces_; }
+  // The profile's corners, translated by `shift`: each interior vertex where
+  // two segments meet at a sharp corner, and points along each fillet arc
+  // (its ends and every 10 degrees between); the profile's two ends too if
+  // `with_ends`.
+  std::vector<Vec2> corner_points(const Vec2& shift, bool with_ends) const;
 
  private:
   std::vector<DiePiece> pieces_;

@@ -321,9 +321,44 @@ void read_remesh(CaseSection r, Scene& sc) {
   m.enabled = r.flag("enabled", false);
   m.min_scaled_jacobian = r.real("min_scaled_jacobian", 0.3, {0, 1, true, false},
                                  "remesh after a step whose least scaled Jacobian is below this");
+  m.reject_below = r.real("reject_below", std::min(0.2, m.min_scaled_jacobian), {0, m.min_scaled_jacobian, false, false},
+                          "reject a step whose least scaled Jacobian falls below this and remesh the last "
+                          "configuration (at most remesh.min_scaled_jacobian)");
   m.stroke_interval = r.real("stroke_interval", 0.0, Range::nonnegative(), "mm of stroke between remeshes (0: never)");
+  m.die_interference = r.real("die_interference", 1.0 / 3, Range::nonnegative(),
+                              "share of the body's edge a die corner may reach into it (0: never)");
   m.element_size = r.real("element_size", 0.0, Range::nonnegative(), "mm (0: each body's mean initial edge length)");
   m.max_remeshes = r.integer("max_remeshes", 100, 1, 100000);
+  m.die_corner_size = r.real("die_corner_size", 0.5, {0.05, 1, false, false},
+                             "share of element_size at a die's corner near the body (1: uniform)");
+  m.volume_tolerance = r.real("volume_tolerance", 1e-8, {0, 1e-3, false, false},
+                              "share of a body's volume its outline's simplification may change per remesh");
+  // Which bodies: the names listed, else every body but a virtual rigid one
+  // (it hardly deforms, and its outline is a tool's).
+  const std::string names = r.text("bodies", "");
+  for (std::size_t a = 0, b; a < names.size(); a = b + 1) {
+    b = names.find(',', a);
+    if (b == std::string::npos) b = names.size();
+    std::string name = names.substr(a, b - a);
+    name.erase(0, name.find_first_not_of(' '));
+    name.erase(name.find_last_not_of(' ') + 1);
+    const auto& all = sc.mesh.body_names;
+    const auto it = std::find(all.begin(), all.end(), name);
+    if (it == all.end()) r.fail("bodies", "a comma-separated list of body names; no body '" + name + "'");
+    m.bodies.push_back(static_cast<int>(it - all.begin()));
+  }
+  if (names.empty())
+    for (std::size_t b = 0; b < sc.bodies.size(); ++b)
+      if (sc.bodies[b].material_name != "VIRTUAL_RIGID") m.bodies.push_back(static_cast<int>(b));
+  std::vector<double> total(sc.mesh.num_bodies(), 0.0);
+  std::vector<int> count(sc.mesh.num_bodies(), 0);
+  for (Index e = 0; e < sc.mesh.num_elements(); ++e)
+    for (int i = 0; i < 4; ++i) {
+      total[sc.mesh.element_body[e]] += (sc.mesh.x[sc.mesh.quads[e][(i + 1) % 4]] - sc.mesh.x[sc.mesh.quads[e][i]]).norm();
+      ++count[sc.mesh.element_body[e]];
+    }
+  for (std::size_t b = 0; b < total.size(); ++b)
+    m.size.push_back(m.element_size > 0 ? m.element_size : total[b] / std::max(1, count[b]));
 }
 
 }  // namespace

@@ -6,8 +6,11 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 #include <stdexcept>
 #include <utility>
+
+#include "mesh/outline_simplify.hpp"
 
 namespace rpfem {
 
@@ -53,33 +56,91 @@ double signed_area(const std::vector<Vec2>& x, const std::array<Index, 4>& q) {
   return 0.5 * a;
 }
 
-OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, int body, double size) {
-  const std::string& name = old.body_names.at(body);
-  const std::vector<Edge> loop = boundary_loop(old.sides.at(name + ".boundary"));
-  const int n = static_cast<int>(loop.size());
+// The sides of body `name` each edge (a, b) of the old mesh is on.
+std::map<std::pair<Index, Index>, std::set<std::string>> sides_of_edges(const Mesh& old, const std::string& name) {
+  std::map<std::pair<Index, Index>, std::set<std::string>> on;
+  for (const auto& [side, edges] : old.sides)
+    if (side.compare(0, name.size() + 1, name + ".") == 0)
+      for (const Edge& e : edges) on[{e.a, e.b}].insert(side);
+  return on;
+}
 
-  GmshSession session;
-  // Points 1..n at the loop's nodes, line k + 1 from point k + 1 to the next.
-  std::vector<int> lines(n);
-  for (int k = 0; k < n; ++k) gmsh::model::geo::addPoint(x[loop[k].a](0), x[loop[k].a](1), 0, size, k + 1);
-  for (int k = 0; k < n; ++k) lines[k] = gmsh::model::geo::addLine(k + 1, (k + 1) % n + 1, k + 1);
-  const int surface = gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(lines)});
-  gmsh::model::geo::synchronize();
-  gmsh::model::mesh::setRecombine(2, surface);
-  // Each line in segments of about the target size, their total even (a
-  // mesh of quadrilaterals has an even number of boundary edges; Blossom
-  // leaves a triangle otherwise): the longest segments get one more.
+OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, int body, const OutlineOptions& o) {
+  // The target size at a point; `scale` doubles it for the subdivision below.
+  double scale = 1;
+  const auto h = [&](const Vec2& p) { return scale * (o.size_at ? o.size_at(p) : o.size); };
+  const std::string& name = old.body_names.at(body);
+  const std::vector<Edge> all = boundary_loop(old.sides.at(name + ".boundary"));
+  // The outline's corners: a node stays where the sides its two edges are
+  // on differ (a side's end), or where it is pinned.
+  const auto on = sides_of_edges(old, name);
+  const std::set<Index> pinned(o.pinned.begin(), o.pinned.end());
+  std::vector<Vec2> polygon;
+  std::vector<bool> fixed;
+  OutlineSimplification how{{}, o.volume_tolerance, o.geometry};
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const Edge& before = all[(k + all.size() - 1) % all.size()];
+    polygon.push_back(x[all[k].a]);
+    fixed.push_back(pinned.count(all[k].a) || on.at({before.a, before.b}) != on.at({all[k].a, all[k].b}));
+    how.max_length.push_back(h(polygon.back()));
+  }
+  const std::vector<std::size_t> corner = simplify_outline(polygon, fixed, how);
+  // Line k from old node corner[k] to the next corner: loop[k] is that
+  // straight edge, first[k] the first of the old edges it replaces.
+  const int n = static_cast<int>(corner.size());
+  std::vector<Edge> loop(n);
+  std::map<std::pair<Index, Index>, int> line_of;  // old boundary edge -> its line
+  for (int k = 0; k < n; ++k) {
+    const std::size_t end = corner[(k + 1) % n];
+    loop[k] = {all[corner[k]].a, all[end].a, -1};
+    for (std::size_t i = corner[k]; i != end; i = (i + 1) % all.size()) line_of[{all[i].a, all[i].b}] = k;
+  }
+
+  // Each line in segments of about the target size (int ds / h by
+  // Simpson's rule), their total even (a mesh of quadrilaterals has an even
+  // number of boundary edges; Blossom leaves a triangle otherwise): the
+  // longest segments get one more.
   std::vector<int> segments(n);
   int total = 0, longest = 0;
   for (int k = 0; k < n; ++k) {
-    const double L = (x[loop[k].b] - x[loop[k].a]).norm();
-    segments[k] = std::max(1, static_cast<int>(std::lround(L / size)));
+    const Vec2 &a = x[loop[k].a], &b = x[loop[k].b];
+    const double count = (b - a).norm() / 6 * (1 / h(a) + 4 / h(0.5 * (a + b)) + 1 / h(b));
+    segments[k] = std::max(1, static_cast<int>(std::lround(count)));
     total += segments[k];
     const double Ll = (x[loop[longest].b] - x[loop[longest].a]).norm();
-    if (L / segments[k] > Ll / segments[longest]) longest = k;
+    if ((b - a).norm() / segments[k] > Ll / segments[longest]) longest = k;
   }
   if (total % 2) ++segments[longest];
-  for (int k = 0; k < n; ++k) gmsh::model::mesh::setTransfiniteCurve(lines[k], segments[k] + 1);
+  // The outline's points: each line's start (its old node, where it was)
+  // and its segments' ends between, evenly spaced on the straight line,
+  // moved out of a die where OutlineOptions::place says. first[k]: the
+  // point line k starts at.
+  std::vector<Vec2> points;
+  std::vector<int> first(n + 1);
+  for (int k = 0; k < n; ++k) {
+    first[k] = static_cast<int>(points.size());
+    const Vec2 &a = x[loop[k].a], &b = x[loop[k].b];
+    points.push_back(a);
+    for (int i = 1; i < segments[k]; ++i) {
+      const double t = static_cast<double>(i) / segments[k];
+      points.push_back(o.place ? o.place(a, b, t) : Vec2(a + (b - a) * t));
+    }
+  }
+  first[n] = static_cast<int>(points.size());
+  const int np = first[n];
+
+  GmshSession session;
+  // gmsh point i + 1 at points[i], line i + 1 from it to the next.
+  std::vector<int> lines(np);
+  for (int i = 0; i < np; ++i) gmsh::model::geo::addPoint(points[i](0), points[i](1), 0, h(points[i]), i + 1);
+  for (int i = 0; i < np; ++i) lines[i] = gmsh::model::geo::addLine(i + 1, (i + 1) % np + 1, i + 1);
+  const int surface = gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(lines)});
+  gmsh::model::geo::synchronize();
+  gmsh::model::mesh::setRecombine(2, surface);
+  for (int i = 0; i < np; ++i) gmsh::model::mesh::setTransfiniteCurve(lines[i], 2);
+  // The inside graded to the same target (gmsh takes the least of this and
+  // the points' sizes).
+  gmsh::model::mesh::setSizeCallback([&](int, int, double px, double py, double) { return h(Vec2(px, py)); });
   // Blossom matching at the target size on frontal-Delaunay's triangles,
   // else on Delaunay's or MeshAdapt's (Mesh.Algorithm 5, 1); should each
   // leave a triangle, the mesh at twice the size inside split into
@@ -102,9 +163,12 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
     gmsh::model::mesh::clear();
     gmsh::option::setNumber("Mesh.Algorithm", 6);
     gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
-    for (int k = 0; k < n; ++k) gmsh::model::mesh::setSize({{0, k + 1}}, 2 * size);
+    scale = 2;
+    for (int i = 0; i < np; ++i) gmsh::model::mesh::setSize({{0, i + 1}}, h(points[i]));
     gmsh::model::mesh::generate(2);
   }
+
+  gmsh::model::mesh::removeSizeCallback();
 
   OutlineMesh out;
   Mesh& m = out.mesh;
@@ -141,21 +205,25 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
   // Each old boundary edge as its chain of new edges, along the line's
   // parameter from its start point.
   out.kept.assign(old.x.size(), -1);
-  std::map<std::pair<Index, Index>, std::vector<Edge>> chain;  // old (a, b) -> new edges
+  std::vector<std::vector<Edge>> chain(n);  // per line: its new edges
   const auto point_node = [&](int point) {
     gmsh::model::mesh::getNodes(tags, coords, params, 0, point);
     return id.at(tags.at(0));
   };
   for (int k = 0; k < n; ++k) {
-    // The line's inner nodes by their parameter, between its end points.
-    std::vector<Index> nodes{point_node(k + 1)};
-    gmsh::model::mesh::getNodes(tags, coords, params, 1, lines[k], false, true);
-    std::vector<std::size_t> order(tags.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return params[i] < params[j]; });
-    for (std::size_t i : order) nodes.push_back(id.at(tags[i]));
-    nodes.push_back(point_node((k + 1) % n + 1));
-    std::vector<Edge>& c = chain[{loop[k].a, loop[k].b}];
+    // The nodes along line k: its points and, after a subdivision, the
+    // nodes gmsh put between them, by their parameter on each line.
+    std::vector<Index> nodes;
+    for (int i = first[k]; i < first[k + 1]; ++i) {
+      nodes.push_back(point_node(i + 1));
+      gmsh::model::mesh::getNodes(tags, coords, params, 1, lines[i], false, true);
+      std::vector<std::size_t> order(tags.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return params[a] < params[b]; });
+      for (std::size_t j : order) nodes.push_back(id.at(tags[j]));
+    }
+    nodes.push_back(point_node(first[k + 1] % np + 1));
+    std::vector<Edge>& c = chain[k];
     for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
       const Index a = nodes[i], b = nodes[i + 1];
       const auto it = owner.find({a, b});
@@ -166,10 +234,15 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
   }
   for (const auto& [side, edges] : old.sides) {
     if (side.compare(0, name.size() + 1, name + ".") != 0) continue;
+    // A side is whole lines (its ends are corners): each line's chain once,
+    // in the side's order.
     std::vector<Edge>& rebuilt = m.sides[side];
+    int last = -1;
     for (const Edge& e : edges) {
-      const auto& c = chain.at({e.a, e.b});
-      rebuilt.insert(rebuilt.end(), c.begin(), c.end());
+      const int k = line_of.at({e.a, e.b});
+      if (k == last) continue;
+      rebuilt.insert(rebuilt.end(), chain[k].begin(), chain[k].end());
+      last = k;
     }
   }
   return out;
@@ -177,9 +250,9 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
 
 }  // namespace
 
-OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, double size) {
+OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, const OutlineOptions& o) {
   try {
-    return mesh_outline_with_gmsh(old, x, body, size);
+    return mesh_outline_with_gmsh(old, x, body, o);
   } catch (const std::string& e) {  // gmsh reports its errors by throwing their text
     throw std::runtime_error("remeshing: gmsh: " + e);
   }

@@ -1,12 +1,13 @@
 // A body's current outline meshed anew with gmsh (Geuzaine and Remacle
 // 2009, libgmsh 4.8), for remeshing a deformed body.
-// The outline is the body's boundary as the old mesh has it: every old
-// boundary node becomes a gmsh point and every old boundary edge a line, so
+// The outline is the body's boundary as the old mesh has it, less the
+// nodes that may go (OutlineOptions::volume_tolerance): every node kept
+// becomes a gmsh point and the straight edge to the next one a line, so
 // the polygon, and the area and volume (2 pi r dA) it bounds, are the old
-// ones exactly (the mesher is volume-neutral), every node a boundary
-// condition or contact surface may name stays where it is, and each old
-// side is rebuilt on the new mesh along the same edges. Edges longer than
-// the target size get nodes on them, an even number in all. The inside is
+// ones to that tolerance (exactly where no node goes), the ends of every
+// named side stay where they are, and each old side is rebuilt on the new
+// mesh along the same lines. Lines longer than the target size get nodes
+// on them, an even number in all. The inside is
 // meshed by gmsh's frontal-Delaunay algorithm (Mesh.Algorithm 6), else
 // Delaunay's (5) or MeshAdapt (1), recombined into quadrilaterals by
 // Blossom matching (Mesh.RecombinationAlgorithm 1); where each leaves a
@@ -17,6 +18,7 @@
 // (RecombinationAlgorithm 3): it halves each outline line's 1D mesh, which
 // a line of one element cannot, and throws inside an OpenMP region.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,13 +28,33 @@ namespace rpfem {
 
 struct OutlineMesh {
   Mesh mesh;  // the body alone (body id 0, its name), its sides as before
-  // Per node of the old mesh: its node in the new mesh, -1 off the outline.
+  // Per node of the old mesh: its node in the new mesh, -1 off the outline
+  // or dropped from it.
   std::vector<Index> kept;
 };
 
-// Meshes body `body` of `old` (at coordinates x) with target element size
-// `size` (mm). Throws std::runtime_error if the outline is not one closed
-// loop or gmsh leaves an element that is not a quadrilateral.
-OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, double size);
+struct OutlineOptions {
+  double size = 0;  // mm, the target element size
+  // mm, the target size at a point, where it varies (empty: `size`
+  // everywhere); gmsh grades the elements to it.
+  std::function<double(const Vec2&)> size_at;
+  // Old boundary nodes may go (mesh/outline_simplify.hpp) where the edge
+  // replacing their two is at most `size` long and all the triangles so cut
+  // off or added sum to at most this share of the body's volume; 0: only
+  // nodes exactly in line with their neighbours. The ends of every named
+  // side and the pinned nodes stay.
+  double volume_tolerance = 0;
+  Geometry geometry = Geometry::PlaneStrain;  // the volume that tolerance measures
+  std::vector<Index> pinned;                  // old nodes that stay
+  // Where a new outline point goes, at parameter s of the straight edge
+  // from kept node a to kept node b (empty: a + s (b - a)); the caller
+  // moves it out of a die the edge cuts into.
+  std::function<Vec2(const Vec2& a, const Vec2& b, double s)> place;
+};
+
+// Meshes body `body` of `old` (at coordinates x). Throws std::runtime_error
+// if the outline is not one closed loop or gmsh leaves an element that is
+// not a quadrilateral.
+OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, const OutlineOptions& options);
 
 }  // namespace rpfem

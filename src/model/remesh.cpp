@@ -1,6 +1,8 @@
 #include "model/remesh.hpp"
 
 #include <algorithm>
+#include <functional>
+#include <limits>
 #include <stdexcept>
 
 #include "fem/quad4.hpp"
@@ -68,6 +70,123 @@ Totals totals(const Mesh& m, const std::vector<Vec2>& x, const std::vector<Gauss
   return t;
 }
 
+// The target size at a point of body part p: `size`, falling to
+// size * share at the dies' corners near the body (request.die_corner_size),
+// linearly in the distance to the nearest over 4 sizes.
+std::function<double(const Vec2&)> size_field(const Scene& scene, const BodyPart& p, double t, double size,
+                                              double share) {
+  if (share >= 1) return {};
+  std::vector<Vec2> near;
+  const auto& outline = p.mesh.sides.at(p.mesh.body_names[0] + ".boundary");
+  for (const Die& die : scene.dies)
+    for (const Vec2& c : die.profile.corner_points(die.motion.displacement(t), false)) {
+      double d = std::numeric_limits<double>::infinity();
+      for (const Edge& e : outline) {
+        const Vec2 a = p.mesh.x[e.a], ab = p.mesh.x[e.b] - a;
+        const double s = std::clamp((c - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+        d = std::min(d, (c - a - s * ab).norm());
+      }
+      if (d <= size) near.push_back(c);
+    }
+  if (near.empty()) return {};
+  return [near, size, share](const Vec2& x) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Vec2& c : near) d = std::min(d, (x - c).norm());
+    return size * std::min(1.0, share + (1 - share) * d / (4 * size));
+  };
+}
+
+// Where a new outline point of body b goes, at parameter s of the edge
+// from kept node a to kept node b: on the edge, unless that is deeper in a
+// die its contact pairs name than the two nodes are (linearly between their
+// depths: a penalty's penetration stays as it is), by less than the
+// element size (deeper is the far side of a thin die, not an overlap);
+// then at that depth below the die's surface. So an edge that cuts across
+// a die's corner gets its new nodes on the corner.
+std::function<Vec2(const Vec2&, const Vec2&, double)> die_placement(const Scene& scene, int b, double t,
+                                                                    double size) {
+  std::vector<const Die*> dies;
+  for (const ContactPair& pair : scene.contact_pairs)
+    if (pair.with_die() && pair.body_id == b) dies.push_back(&scene.dies[pair.die_id]);
+  if (dies.empty()) return {};
+  return [dies, t, size](const Vec2& a, const Vec2& bb, double s) {
+    Vec2 p = a + s * (bb - a);
+    for (const Die* die : dies) {
+      const DieProjection at = die->project(p, t);
+      const double allowed = (1 - s) * std::min(0.0, die->project(a, t).distance) +
+                             s * std::min(0.0, die->project(bb, t).distance);
+      if (at.distance < allowed && at.distance > -size) p = at.point + allowed * at.normal;
+    }
+    return p;
+  };
+}
+
+// The volume a polygon edge a -> b sweeps with the origin (2 pi int r dA,
+// axisymmetric; the area, plane strain: Green's theorem), and its
+// gradients with respect to a and b.
+struct EdgeVolume {
+  double v;
+  Vec2 da, db;
+};
+EdgeVolume edge_volume(const Vec2& a, const Vec2& b, Geometry g) {
+  const double c = 0.5 * cross(a, b);
+  const Vec2 dc_da(0.5 * b(1), -0.5 * b(0)), dc_db(-0.5 * a(1), 0.5 * a(0));
+  if (g != Geometry::Axisymmetric) return {c, dc_da, dc_db};
+  const double k = 2 * kPi / 3, r = a(0) + b(0);
+  return {k * c * r, k * (dc_da * r + Vec2(c, 0)), k * (dc_db * r + Vec2(c, 0))};
+}
+
+// Moves body mesh m's free boundary nodes along their outward normals,
+// all by the same distance, until the body's volume is `target` (Newton on
+// that distance, a few iterations: the volume is quadratic in it). Free:
+// off every die a contact pair of body b names (farther than `touch`), off
+// the axis (axisymmetric) and the symmetry planes. Returns false where no
+// node is free.
+bool restore_volume(Mesh& m, const Scene& scene, int b, double t, double touch, double target) {
+  const auto& outline = m.sides.at(m.body_names[0] + ".boundary");
+  std::vector<char> free(m.x.size(), 0);
+  std::vector<Vec2> normal(m.x.size(), Vec2::Zero());
+  for (const Edge& e : outline) {
+    const Vec2 d = m.x[e.b] - m.x[e.a];
+    const Vec2 n(d(1), -d(0));  // outward: the body lies left of a counter-clockwise edge
+    normal[e.a] += n, normal[e.b] += n;
+    free[e.a] = free[e.b] = 1;
+  }
+  for (Index i = 0; i < static_cast<Index>(m.x.size()); ++i) {
+    if (!free[i]) continue;
+    const Vec2& p = m.x[i];
+    bool off = !(scene.geometry == Geometry::Axisymmetric && std::abs(p(0)) <= touch);
+    for (const SymmetryPlane& s : scene.symmetry) off = off && std::abs(p(s.axis) - s.at) > touch;
+    for (const ContactPair& pair : scene.contact_pairs)
+      if (pair.with_die() && pair.body_id == b) off = off && scene.dies[pair.die_id].project(p, t).distance > touch;
+    free[i] = off && normal[i].norm() > 0;
+    if (free[i]) normal[i].normalize();
+  }
+  if (std::find(free.begin(), free.end(), 1) == free.end()) return false;
+  const std::vector<Vec2> x0 = m.x;
+  double delta = 0;
+  for (int it = 0; it < 8; ++it) {
+    double v = 0, dv = 0;
+    for (const Edge& e : outline) {
+      const EdgeVolume ev = edge_volume(m.x[e.a], m.x[e.b], scene.geometry);
+      v += ev.v;
+      if (free[e.a]) dv += ev.da.dot(normal[e.a]);
+      if (free[e.b]) dv += ev.db.dot(normal[e.b]);
+    }
+    if (std::abs(v - target) <= 1e-15 * std::abs(target) || dv == 0) break;
+    delta -= (v - target) / dv;
+    for (Index i = 0; i < static_cast<Index>(m.x.size()); ++i)
+      if (free[i]) m.x[i] = x0[i] + delta * normal[i];
+  }
+  return true;
+}
+
+double body_volume(const Mesh& m, const std::vector<Vec2>& x, Geometry g) {
+  double v = 0;
+  for (const Edge& e : m.sides.at(m.body_names[0] + ".boundary")) v += edge_volume(x[e.a], x[e.b], g).v;
+  return v;
+}
+
 double relative(double after, double before) { return before != 0 ? after / before - 1 : after - before; }
 
 }  // namespace
@@ -78,9 +197,9 @@ RemeshChange remesh_change(const Scene& before, const RunState& old_state, const
   return {relative(b.volume, a.volume), relative(b.integral, a.integral), relative(b.max, a.max)};
 }
 
-RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const std::vector<int>& bodies,
-                           const std::vector<double>& size) {
-  if (bodies.size() != size.size()) throw std::invalid_argument("remesh_scene: one size per body");
+RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const RemeshRequest& request) {
+  const std::vector<int>& bodies = request.bodies;
+  if (bodies.size() != request.size.size()) throw std::invalid_argument("remesh_scene: one size per body");
   RemeshedScene out{scene, {}, std::vector<Index>(scene.mesh.num_nodes(), -1)};
   Mesh mesh;
   RunState& st = out.state;
@@ -89,7 +208,17 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const std:
     BodyPart part = body_part(scene.mesh, state, b);
     const auto listed = std::find(bodies.begin(), bodies.end(), b);
     if (listed != bodies.end()) {
-      OutlineMesh fresh = mesh_outline(part.mesh, part.mesh.x, 0, size[listed - bodies.begin()]);
+      const double size = request.size[listed - bodies.begin()];
+      OutlineOptions o{size, size_field(scene, part, state.time, size, request.die_corner_size),
+                       request.volume_tolerance, scene.geometry, {}, die_placement(scene, b, state.time, size)};
+      for (Index n : request.pinned)
+        if (part.node.at(n) >= 0) o.pinned.push_back(part.node[n]);
+      OutlineMesh fresh = mesh_outline(part.mesh, part.mesh.x, 0, o);
+      const double before = body_volume(part.mesh, part.mesh.x, scene.geometry);
+      const double overlap = before - body_volume(fresh.mesh, fresh.mesh.x, scene.geometry);
+      if (std::abs(overlap) > 1e-13 * std::abs(before) &&
+          restore_volume(fresh.mesh, scene, b, state.time, 1e-3 * size, before))
+        out.overlap_restored += overlap / before;
       part.strain = transfer_gauss_field(part.mesh, part.mesh.x, part.strain, fresh.mesh, fresh.mesh.x);
       part.v = transfer_nodal_field(part.mesh, part.mesh.x, part.v, fresh.mesh.x);
       part.mesh = std::move(fresh.mesh);

@@ -1,7 +1,11 @@
 // Remeshing bodies of a scene at a run's state, for the run to resume
 // (model/stepper.hpp, RunState): each listed body's outline meshed anew at
 // its current configuration (mesh/outline_mesher.hpp: the outline, its
-// nodes and named sides kept), the other bodies as they are; the state
+// nodes and named sides kept), the other bodies as they are. Where an
+// outline edge cut across a die's corner, its new points go onto the die
+// and the volume so taken out is put back by moving the free surface (the
+// boundary nodes off the dies, the axis and the symmetry planes) along its
+// normal, uniformly (the remedy DEFORM calls TRGVOL); the state
 // moved onto the new mesh: the effective strain by patch recovery and
 // interpolation (mesh/field_transfer.hpp), the velocities interpolated (a
 // start for Newton only). Velocity groups, tractions and contact pairs name
@@ -18,6 +22,9 @@ struct RemeshedScene {
   Scene scene;     // the scene with its mesh replaced; its coordinates are the state's
   RunState state;  // on the new mesh: the same time, stroke and step
   std::vector<Index> kept;  // per old node: the new node at its place (-1: an inner node remeshed away)
+  // The volume the new outline's points took out of the dies' corners
+  // (relative to the bodies' volume), put back on the free surface.
+  double overlap_restored = 0;
 };
 
 // What a remesh changed (events.csv, summary.json): relative changes of the
@@ -28,8 +35,17 @@ struct RemeshChange {
 };
 RemeshChange remesh_change(const Scene& before, const RunState& old_state, const RemeshedScene& after);
 
-// size: the target element size per listed body (mm).
-RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const std::vector<int>& bodies,
-                           const std::vector<double>& size);
+struct RemeshRequest {
+  std::vector<int> bodies;    // the bodies meshed anew
+  std::vector<double> size;   // mm, the target element size of each
+  double volume_tolerance = 0;  // per body, the share of its volume its outline's simplification may change
+  // Near a die's corner (a sharp vertex or a fillet within one element size
+  // of the body) the target size falls to this share of the body's, graded
+  // back to it over four element sizes; 1: uniform.
+  double die_corner_size = 1;
+  std::vector<Index> pinned;  // nodes of the scene's mesh that stay (monitored nodes)
+};
+
+RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const RemeshRequest& request);
 
 }  // namespace rpfem

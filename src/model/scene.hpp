@@ -95,9 +95,25 @@ struct RemeshSpec {
   // of halving a step in which an element inverts (the last configuration
   // is remeshed).
   double min_scaled_jacobian = 0.3;
+  // A step that would take the least scaled Jacobian below this is
+  // rejected and the last configuration remeshed (on a fresh mesh: the
+  // step halved).
+  double reject_below = 0.2;
   double stroke_interval = 0;  // mm since the last remesh (0: never)
+  // After a step in which a die's corner reaches deeper into a body than
+  // this share of the body's edge there (model/die_interference.hpp; 0: never).
+  double die_interference = 1.0 / 3;
   double element_size = 0;     // mm (0: each body's mean initial edge length)
+  double die_corner_size = 0.5;  // share of element_size at a die's corner near the body (1: uniform)
   int max_remeshes = 100;      // then the run stops
+  // Share of a body's volume the simplification of its outline may change
+  // per remesh (mesh/outline_mesher.hpp, OutlineOptions).
+  double volume_tolerance = 1e-8;
+  std::vector<int> bodies;  // the bodies meshed anew (remesh.bodies; default: all but virtual rigid ones)
+  // mm, per body: the target element size, element_size or else the body's
+  // mean edge length on the initial mesh (resolved by the reader; a remeshed
+  // scene keeps it).
+  std::vector<double> size;
 };
 
 struct Scene {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "mesh/quality.hpp"
+#include "model/die_interference.hpp"
 #include "model/boundary.hpp"
 #include "model/step_problem.hpp"
 
@@ -119,7 +120,8 @@ class Runner {
   State advance(const State& st, const Solution& sol, double dt) const;
   StepView view(const State& st, int step, double dt) const;
   // quality: the configuration's least scaled Jacobian.
-  void record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality);
+  void record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality,
+              bool resumed = false);
   RunOutcome finish();
   const Die* find_die(const std::string& name) const {
     for (const Die& d : scene_.dies)
@@ -143,6 +145,8 @@ class Runner {
   double worst_floor_ = 0;
   int penetrating_steps_ = 0, worst_penetration_step_ = -1;
   double segment_start_stroke_ = 0;  // mm: where this run started (a resume's stroke)
+  int segment_first_step_ = 0;       // the step this run started at (a resume's)
+  double segment_start_quality_ = 1;  // the least scaled Jacobian of its first configuration
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
 };
 
@@ -291,7 +295,8 @@ State Runner::advance(const State& st, const Solution& sol, double dt) const {
   return n;
 }
 
-void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality) {
+void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality,
+                    bool resumed) {
   StepRecord r;
   r.step = step;
   r.time = st.time;
@@ -303,17 +308,21 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.solves = sol.solves;
   r.residual = sol.residual;
   r.tangent_rcond = std::isfinite(sol.rcond) ? sol.rcond : -1.0;
-  if (sol.rcond < out_.min_tangent_rcond) out_.min_tangent_rcond = sol.rcond, min_rcond_step_ = step;
-  if (sol.residual > kFloorWarning * scene_.solver.newton.tol_force) {
-    ++floor_steps_;
-    if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
-  }
   const StepView sv = view(st, step, dt);
   ContactRecord cr = contact_.record(sv, sol.v, sol.F);
-  if (const auto pen = cr.penetration_rel) {
-    penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
-    if (!(*pen <= worst_penetration_)) {
-      worst_penetration_ = *pen, worst_penetration_step_ = step, worst_penetration_stroke_ = st.stroke;
+  // The run's worst conditioning, residual floor and penetration count
+  // recorded steps only.
+  if (!resumed) {
+    if (sol.rcond < out_.min_tangent_rcond) out_.min_tangent_rcond = sol.rcond, min_rcond_step_ = step;
+    if (sol.residual > kFloorWarning * scene_.solver.newton.tol_force) {
+      ++floor_steps_;
+      if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
+    }
+    if (const auto pen = cr.penetration_rel) {
+      penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
+      if (!(*pen <= worst_penetration_)) {
+        worst_penetration_ = *pen, worst_penetration_step_ = step, worst_penetration_stroke_ = st.stroke;
+      }
     }
   }
   r.x = st.x;
@@ -343,7 +352,10 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.node_fields = std::move(cr.fields);
   r.events = sol.events;
   r.min_scaled_jacobian = quality;
-  obs_.on_step(r);
+  if (resumed)
+    obs_.on_resumed(r);
+  else
+    obs_.on_step(r);
 }
 
 RunOutcome Runner::finish() {
@@ -463,19 +475,24 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   for (;; ++cuts) {
     a = Attempt{};
     const std::string why = attempt(st, sol, step, dt, a);
-    if (why.empty()) break;
-    if (a.inverted && scene_.remesh.enabled) {
-      // Remesh the last configuration rather than creep up to the fold.
-      out_.remesh = "step " + std::to_string(step) + ": " + why;
+    if (why.empty() && !(scene_.remesh.enabled && a.quality < scene_.remesh.reject_below)) break;
+    if (scene_.remesh.enabled && (a.inverted || why.empty()) && step > segment_first_step_ + 1) {
+      // Remesh the last configuration rather than creep up to the fold, or
+      // let an element's quality fall below remesh.reject_below.
+      out_.remesh = "step " + std::to_string(step) + ": " +
+                    (why.empty() ? "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below" : why);
       return false;
     }
+    // A fresh mesh (the run's first, or a remesh's) whose first step falls
+    // below the floor: halved like a failing step, the last halving taken.
+    if (why.empty() && cuts == scene_.stepping.max_cuts) break;
     if (cuts == scene_.stepping.max_cuts) {
       out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) + " mm failed after " +
                     std::to_string(cuts) + " step halvings: " + why +
                     (a.factorized ? conditioning_note(a.rcond, a.stalled) : std::string());
       return false;
     }
-    obs_.on_retry(step, dt, why);
+    obs_.on_retry(step, dt, why.empty() ? "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below" : why);
     dt *= 0.5;
   }
   contact_.end_step(view(st, step, dt), a.moved_by);
@@ -490,10 +507,20 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   const RemeshSpec& rm = scene_.remesh;
   const double eps = 1e-9 * std::max(scene_.stepping.end_stroke, 1.0);
   if (rm.enabled && st.stroke < scene_.stepping.end_stroke - eps) {
-    if (a.quality < rm.min_scaled_jacobian)
+    // A fresh mesh whose own worst element is below the threshold (gmsh's
+    // quads near a sharp outline corner) is remeshed once that element has
+    // lost a fifth of its quality, not after every step.
+    if (a.quality < std::min(rm.min_scaled_jacobian, 0.8 * segment_start_quality_))
       out_.remesh = "least scaled Jacobian " + sci(a.quality) + " below remesh.min_scaled_jacobian";
     else if (rm.stroke_interval > 0 && st.stroke >= segment_start_stroke_ + rm.stroke_interval - eps)
       out_.remesh = "remesh.stroke_interval reached";
+    else if (rm.die_interference > 0) {
+      const DieInterference d = die_interference(scene_, st.x, st.time);
+      if (d.relative > rm.die_interference)
+        out_.remesh = "die '" + scene_.dies[d.die].name + "' " + sci(d.depth) + " mm into body '" +
+                      scene_.mesh.body_names[d.body] + "', " + sci(d.relative) +
+                      " of the element size there, above remesh.die_interference";
+    }
     if (!out_.remesh.empty()) return false;
   }
   return true;
@@ -511,6 +538,7 @@ RunOutcome Runner::run(const RunState* from) {
       throw std::invalid_argument("run_scene: the state to resume from is not on the scene's mesh");
     st.x = from->x, st.strain = from->strain, st.time = from->time, st.stroke = from->stroke;
     segment_start_stroke_ = from->stroke;
+    segment_first_step_ = from->step;
     if (from->v.size() == guess.size()) guess = from->v;
     first = from->step;
     // The flow stress at the start: the law at the state's strain.
@@ -529,8 +557,10 @@ RunOutcome Runner::run(const RunState* from) {
   }
   flow_stress_ = sol.flow_stress;
   // A resumed run's first solve starts it: the step it resumes at is on
-  // record already (on its old mesh, after a remesh).
-  if (!from) record(st, sol, first, 0.0, 0, mesh_quality(scene_.mesh, st.x).min_scaled_jacobian);
+  // record already (on its old mesh, after a remesh), so the observer
+  // sees it apart (on_resumed).
+  segment_start_quality_ = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
+  record(st, sol, first, 0.0, 0, segment_start_quality_, from != nullptr);
   out_.total_newton_iterations += sol.iterations;
   const double end = scene_.stepping.end_stroke;
   const double eps = 1e-9 * std::max(end, 1.0);

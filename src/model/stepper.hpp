@@ -63,6 +63,9 @@ class StepObserver {
                         const std::vector<std::string>& report_names) {}
   virtual void on_step(const StepRecord&) = 0;
   virtual void on_retry(int step, double dt, const std::string& why) {}
+  // A resumed run's first solve, at the configuration it resumes from (the
+  // step on record already, after a remesh on its old mesh): not a step.
+  virtual void on_resumed(const StepRecord&) {}
 };
 
 // Where a run is: the last recorded configuration and its solution. A run

@@ -30,7 +30,7 @@ Meshes barrelled() {
     p(0) *= 1 + 0.1 * std::sin(kPi * p(1) / 5);
     p(1) -= 0.3 * (p(1) / 5) * (1 - p(0) / 12);
   }
-  m.fresh = mesh_outline(m.old_mesh, m.old_x, 0, 0.6);
+  m.fresh = mesh_outline(m.old_mesh, m.old_x, 0, {0.6});
   return m;
 }
 

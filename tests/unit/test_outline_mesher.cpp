@@ -51,7 +51,7 @@ TEST(OutlineMesher, KeepsTheOutlineItsNodesAndSides) {
     p(1) -= 0.3 * (p(1) / 5) * (1 - p(0) / 12);
   }
   const double size = 0.6;
-  const OutlineMesh out = mesh_outline(old, x, 0, size);
+  const OutlineMesh out = mesh_outline(old, x, 0, {size});
   const Mesh& m = out.mesh;
   ASSERT_EQ(m.body_names, std::vector<std::string>{"billet"});
 

@@ -75,7 +75,7 @@ TEST(Resume, RemeshingAHomogeneousFlowChangesNothing) {
                 {"stepping.end_stroke=2.0", "bodies.billet.mesh.nx=6", "bodies.billet.mesh.ny=6",
                  "stepping.stroke_increment=0.1"});
   const Scene scene = read_scene(file);
-  const RemeshedScene re = remesh_scene(scene, first.outcome.last, {0}, {1.0});
+  const RemeshedScene re = remesh_scene(scene, first.outcome.last, {{0}, {1.0}});
   ASSERT_NE(re.scene.mesh.num_elements(), scene.mesh.num_elements());  // a different mesh
   const auto contact = make_contact(file, re.scene, {"penalty", ""});
   Collect out;

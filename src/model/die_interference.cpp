@@ -1,0 +1,45 @@
+#include "model/die_interference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rpfem {
+
+namespace {
+
+// Distance from p to the segment a b.
+double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 d = b - a;
+  const double L2 = d.squaredNorm();
+  const double s = L2 > 0 ? std::clamp((p - a).dot(d) / L2, 0.0, 1.0) : 0.0;
+  return (p - (a + s * d)).norm();
+}
+
+}  // namespace
+
+DieInterference die_interference(const Scene& scene, const std::vector<Vec2>& x, double t) {
+  DieInterference worst;
+  for (const ContactPair& pair : scene.contact_pairs) {
+    if (!pair.with_die()) continue;
+    const Die& die = scene.dies[pair.die_id];
+    const auto& outline = scene.mesh.sides.at(scene.mesh.body_names[pair.body_id] + ".boundary");
+    for (const Vec2& p : die.profile.corner_points(die.motion.displacement(t), true)) {
+      // Inside the outline by the crossing rule; the nearest edge by distance.
+      bool inside = false;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const Edge& e : outline) {
+        const Vec2& a = x[e.a];
+        const Vec2& b = x[e.b];
+        if ((a(1) > p(1)) != (b(1) > p(1)) && p(0) < a(0) + (p(1) - a(1)) * (b(0) - a(0)) / (b(1) - a(1)))
+          inside = !inside;
+        nearest = std::min(nearest, segment_distance(p, a, b));
+      }
+      const double size = scene.remesh.size.at(pair.body_id) * scene.remesh.die_corner_size;
+      if (inside && nearest / size > worst.relative) worst = {nearest, nearest / size, pair.die_id, pair.body_id};
+    }
+  }
+  return worst;
+}
+
+}  // namespace rpfem
