@@ -114,10 +114,18 @@ def calibration_png(out, runs, title):
 
 def load_png(runs, title):
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+    marked = False
     for r in runs:
         if r["load_col"]:
-            ax.plot(r["history"]["stroke"], [abs(v) / 1000 for v in r["history"][r["load_col"]]],
-                    label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")")
+            stroke = r["history"]["stroke"]
+            load = [abs(v) / 1000 for v in r["history"][r["load_col"]]]
+            line, = ax.plot(stroke, load, label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")")
+            # Each remesh at its stroke, on the curve (summary.json's remeshes).
+            at = [m["stroke_mm"] for m in r["summary"].get("remeshes", [])]
+            if at:
+                ax.plot(at, np.interp(at, stroke, load), linestyle="none", marker="x",
+                        color=line.get_color(), markersize=6, label=None if marked else "remesh")
+                marked = True
     ax.set_xlabel("stroke (mm)")
     ax.set_ylabel("load (kN)")
     ax.set_title(title)
@@ -131,7 +139,8 @@ def load_png(runs, title):
 # The report's entries (see make_report.FIGURES): alt text, file tag, drawing, caption.
 LOAD_FIGURE = (
     "load against stroke", "load", lambda out, rs, sc: load_png(rs, sc),
-    "Press load (kN) against stroke (mm), every formulation and variant (paper Fig. 11).")
+    "Press load (kN) against stroke (mm), every formulation and variant (paper Fig. 11); an x marks each "
+    "remesh of a run that remeshes.")
 STEPS_FIGURE = (
     "penetration, iterations and force imbalance per step", "steps", lambda out, rs, sc: steps_png(rs, sc),
     "Per step against stroke: largest penetration over the element size, iterations, Newton's relative force "
