@@ -203,7 +203,7 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const Reme
   RemeshedScene out{scene, {}, std::vector<Index>(scene.mesh.num_nodes(), -1)};
   Mesh mesh;
   RunState& st = out.state;
-  st.time = state.time, st.stroke = state.stroke, st.step = state.step;
+  st.time = state.time, st.stroke = state.stroke, st.step = state.step, st.dt = state.dt;
   for (int b = 0; b < scene.mesh.num_bodies(); ++b) {
     BodyPart part = body_part(scene.mesh, state, b);
     const auto listed = std::find(bodies.begin(), bodies.end(), b);

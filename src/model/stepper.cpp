@@ -147,6 +147,7 @@ class Runner {
   double segment_start_stroke_ = 0;  // mm: where this run started (a resume's stroke)
   int segment_first_step_ = 0;       // the step this run started at (a resume's)
   double segment_start_quality_ = 1;  // the least scaled Jacobian of its first configuration
+  double last_dt_ = 0;                // s, the last recorded step's length
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
 };
 
@@ -503,6 +504,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   out_.total_cuts += cuts;
   out_.steps = step;
   record(st, sol, step, dt, cuts, a.quality);
+  last_dt_ = dt;
   // Remesh triggers (not at the end of the stroke).
   const RemeshSpec& rm = scene_.remesh;
   const double eps = 1e-9 * std::max(scene_.stepping.end_stroke, 1.0);
@@ -549,7 +551,11 @@ RunOutcome Runner::run(const RunState* from) {
     }
   }
   const bool midpoint = scene_.stepping.integration == TimeIntegration::Midpoint;
-  Solution sol = solve(st, guess, first, derived_.dt_nominal, nullptr, !midpoint);
+  // A resumed run solves its first configuration with the step that led
+  // there (a contact penalty on the predicted gap depends on it), so the
+  // solve repeats the recorded one on the new mesh.
+  last_dt_ = from && from->dt > 0 ? from->dt : derived_.dt_nominal;
+  Solution sol = solve(st, guess, first, last_dt_, nullptr, !midpoint);
   if (!sol.failure.empty()) {
     out_.reason = "step " + std::to_string(first) + (from ? " (resumed)" : " (initial configuration)") + ": " +
                   sol.failure + conditioning_note(sol.rcond, sol.stalled);
@@ -560,7 +566,7 @@ RunOutcome Runner::run(const RunState* from) {
   // record already (on its old mesh, after a remesh), so the observer
   // sees it apart (on_resumed).
   segment_start_quality_ = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
-  record(st, sol, first, 0.0, 0, segment_start_quality_, from != nullptr);
+  record(st, sol, first, from ? last_dt_ : 0.0, 0, segment_start_quality_, from != nullptr);
   out_.total_newton_iterations += sol.iterations;
   const double end = scene_.stepping.end_stroke;
   const double eps = 1e-9 * std::max(end, 1.0);
@@ -568,7 +574,7 @@ RunOutcome Runner::run(const RunState* from) {
   // and sol there when it stops, and out_.steps at its step (recorded, or
   // the one resumed at).
   const auto stop = [&] {
-    out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, std::max(first, out_.steps)};
+    out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, std::max(first, out_.steps), last_dt_};
     return finish();
   };
   for (int step = first + 1; st.stroke < end - eps; ++step)

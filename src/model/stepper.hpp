@@ -77,6 +77,7 @@ struct RunState {
   std::vector<Vec2> v;                        // mm/s, the solution there (Newton's start on resuming)
   double time = 0, stroke = 0;                // s, mm
   int step = 0;                               // the step recorded there
+  double dt = 0;  // s, that step's length: a resumed run's first solve takes it (0: the nominal step)
 };
 
 struct RunOutcome {
