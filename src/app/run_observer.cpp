@@ -8,6 +8,16 @@
 namespace rpfem {
 
 namespace {
+
+// The press load of a step: the largest of its loads (a remesh's jump is
+// measured on it; a die's reaction elsewhere may be small).
+std::size_t press_load(const StepRecord& r) {
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < r.loads.size(); ++i)
+    if (r.loads[i].norm() > r.loads[k].norm()) k = i;
+  return k;
+}
+
 toml::array pair(const Vec2& v) { return toml::array{v(0), v(1)}; }
 StepFields fields(const StepRecord& r) {
   StepFields f;
@@ -107,10 +117,11 @@ void RunObserver::on_step(const StepRecord& r) {
     // remesh's own jump, a contact event or a short step in that window
     // moves it.
     const double s0 = before_last_.stroke, s1 = last_.stroke;
-    const Vec2 F1 = last_.loads[0];
-    const Vec2 F0 = before_last_.loads.empty() ? F1 : before_last_.loads[0];
+    const std::size_t k = press_load(last_);
+    const Vec2 F1 = last_.loads[k];
+    const Vec2 F0 = before_last_.loads.size() > k ? before_last_.loads[k] : F1;
     const Vec2 line = s1 > s0 ? F1 + (F1 - F0) * ((r.stroke - s1) / (s1 - s0)) : F1;
-    const double jump = line.norm() > 0 ? (r.loads[0] - line).norm() / line.norm() : 0.0;
+    const double jump = line.norm() > 0 ? (r.loads[k] - line).norm() / line.norm() : 0.0;
     auto* entry = remeshes_.back().as_table();
     entry->insert_or_assign("load_jump_trend", jump);
     summary_.insert_or_assign("remeshes", remeshes_);
@@ -182,14 +193,17 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
 
 void RunObserver::on_resumed(const StepRecord& r) {
   if (remeshes_.empty() || r.step != last_step_ || r.loads.empty() || last_.loads.empty()) return;
-  const Vec2 before = last_.loads[0];
+  const std::size_t k = press_load(last_);
+  const Vec2 before = last_.loads[k];
   // Signed: positive where the new mesh carries the larger load.
-  const double size = before.norm() > 0 ? (r.loads[0] - before).norm() / before.norm() : r.loads[0].norm();
-  const double change = r.loads[0].norm() < before.norm() ? -size : size;
+  const double size = before.norm() > 0 ? (r.loads[k] - before).norm() / before.norm() : r.loads[k].norm();
+  const double change = r.loads[k].norm() < before.norm() ? -size : size;
   remeshes_.back().as_table()->insert_or_assign("load_jump", change);
   summary_.insert_or_assign("remeshes", remeshes_);
-  std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << ",remesh load jump " << change
-                                             << " (same configuration: new mesh against old)\n";
+  char text[160];
+  std::snprintf(text, sizeof text, "remesh load jump %.6g (same configuration: %.6g kN on the new mesh, %.6g on the old)",
+                change, r.loads[k].norm() / 1e3, before.norm() / 1e3);
+  std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << "," << text << "\n";
 }
 
 void RunObserver::on_retry(int step, double dt, const std::string& why) {

@@ -62,7 +62,18 @@ std::vector<Job> plan(const SuiteOptions& opt) {
     CaseFile file(path.string(), opt.overrides);
     const std::vector<Variant> variants = read_variants(file.root());
     const Scene scene = read_scene(file);
-    for (const std::string& f : applicable(file, scene)) {
+    std::vector<std::string> formulations = applicable(file, scene);
+    if (!scene.suite_formulations.empty()) {
+      for (const std::string& f : scene.suite_formulations)
+        if (std::find(formulations.begin(), formulations.end(), f) == formulations.end()) {
+          std::string all;
+          for (const std::string& a : formulations) all += (all.empty() ? "" : ", ") + a;
+          throw InputError(path.string() + ": key 'run.suite_formulations': '" + f +
+                           "' does not treat this scene's contacts; expected some of: " + all);
+        }
+      formulations = scene.suite_formulations;
+    }
+    for (const std::string& f : formulations) {
       if (!opt.formulations.empty() &&
           std::find(opt.formulations.begin(), opt.formulations.end(), f) == opt.formulations.end())
         continue;

@@ -126,6 +126,8 @@ double read_run(CaseSection run, const std::string& file, Scene& sc) {
   const std::string geom = run.text("geometry", std::nullopt, {"axisymmetric", "plane_strain"});
   sc.geometry = geom == "axisymmetric" ? Geometry::Axisymmetric : Geometry::PlaneStrain;
   sc.formulation = run.text("formulation", "none");
+  if (run.has("suite_formulations"))
+    sc.suite_formulations = run.text_array("suite_formulations", "the formulations `rpfem suite` runs on this scene");
   const double mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
   sc.penetration_tolerance =
       run.real("penetration_tolerance", 1e-3, Range::positive(), "largest penetration / element size accepted");

@@ -132,6 +132,9 @@ struct Scene {
   SteppingSpec stepping;
   RemeshSpec remesh;
   std::string formulation = "none";  // default contact formulation of the scene
+  // run.suite_formulations: the ones `rpfem suite` runs here (empty: every
+  // one that treats the scene's contacts).
+  std::vector<std::string> suite_formulations;
   // Largest penetration over the local element size the run accepts
   // without a warning (run.penetration_tolerance).
   double penetration_tolerance = 1e-3;

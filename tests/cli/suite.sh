@@ -66,4 +66,16 @@ grep -q "FAIL" "$tmp/v2" && grep -q '"failed" : 1' "$tmp/o/verification.json" \
 # A scene that does not exist is bad input (exit 2), naming it.
 "$rpfem" suite --cases "$tmp/cases" --out "$tmp/o2" --scene nosuch > "$tmp/err" 2>&1; rc=$?
 [ "$rc" -eq 2 ] || { echo "FAIL: unknown scene gave exit $rc"; cat "$tmp/err"; exit 1; }
+# run.suite_formulations limits the scene's runs to those named; a name
+# that does not treat its contacts is bad input naming the file and key.
+"$rpfem" suite --cases "$tmp/cases" --out "$tmp/o3" --jobs 2 --no-studies --no-report --set stepping.end_stroke=0.1 \
+  --set bodies.billet.mesh.nx=4 --set bodies.billet.mesh.ny=4 --set 'run.suite_formulations=["direct","auglag"]' \
+  > "$tmp/o3.log" 2>&1; rc=$?
+[ "$rc" -eq 0 ] || { echo "FAIL: limited suite exit $rc"; cat "$tmp/o3.log"; exit 1; }
+[ "$(ls "$tmp/o3/upsetting_dies_frictionless_axisym" | tr '\n' ' ')" = "auglag direct " ] \
+  || { echo "FAIL: suite_formulations not followed: $(ls "$tmp/o3/upsetting_dies_frictionless_axisym")"; exit 1; }
+"$rpfem" suite --cases "$tmp/cases" --out "$tmp/o4" --no-studies --set 'run.suite_formulations=["direct","nosuch"]' \
+  > "$tmp/err" 2>&1; rc=$?
+[ "$rc" -eq 2 ] && grep -q "upsetting_dies_frictionless_axisym.toml: key 'run.suite_formulations': 'nosuch'" "$tmp/err" \
+  || { echo "FAIL: a bad suite_formulations entry gave exit $rc"; cat "$tmp/err"; exit 1; }
 echo "ok: suite ran 3 formulations and built the report"
