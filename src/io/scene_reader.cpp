@@ -331,7 +331,7 @@ void read_remesh(CaseSection r, Scene& sc) {
                               "share of the body's edge a die corner may reach into it (0: never)");
   m.element_size = r.real("element_size", 0.0, Range::nonnegative(), "mm (0: each body's mean initial edge length)");
   m.max_remeshes = r.integer("max_remeshes", 100, 1, 100000);
-  m.die_corner_size = r.real("die_corner_size", 0.5, {0.05, 1, false, false},
+  m.die_corner_size = r.real("die_corner_size", 0.25, {0.05, 1, false, false},
                              "share of element_size at a die's corner near the body (1: uniform)");
   m.volume_tolerance = r.real("volume_tolerance", 1e-8, {0, 1e-3, false, false},
                               "share of a body's volume its outline's simplification may change per remesh");

@@ -104,7 +104,7 @@ struct RemeshSpec {
   // this share of the body's edge there (model/die_interference.hpp; 0: never).
   double die_interference = 1.0 / 3;
   double element_size = 0;     // mm (0: each body's mean initial edge length)
-  double die_corner_size = 0.5;  // share of element_size at a die's corner near the body (1: uniform)
+  double die_corner_size = 0.25;  // share of element_size at a die's corner near the body (1: uniform)
   int max_remeshes = 100;      // then the run stops
   // Share of a body's volume the simplification of its outline may change
   // per remesh (mesh/outline_mesher.hpp, OutlineOptions).
