@@ -2,12 +2,15 @@
 // 2009, libgmsh 4.8), for remeshing a deformed body.
 // The outline is the body's boundary as the old mesh has it, less the
 // nodes that may go (OutlineOptions::volume_tolerance): every node kept
-// becomes a gmsh point and the straight edge to the next one a line, so
-// the polygon, and the area and volume (2 pi r dA) it bounds, are the old
-// ones to that tolerance (exactly where no node goes), the ends of every
-// named side stay where they are, and each old side is rebuilt on the new
-// mesh along the same lines. Lines longer than the target size get nodes
-// on them, an even number in all. The inside is
+// stays where it is and the straight edge to the next one is split into
+// segments of about the target size there (an even number in all), their
+// points on the edge unless OutlineOptions::place moves them (out of a
+// die's corner); each point is a gmsh point and each segment a line of one
+// element. So the polygon, and the area and volume (2 pi r dA) it bounds,
+// are the old ones to that tolerance (exactly where no node goes and no
+// point is moved), the ends of every named side stay where they are, and
+// each old side is rebuilt on the new mesh along the same edges. The
+// inside is graded to OutlineOptions::size_at and
 // meshed by gmsh's frontal-Delaunay algorithm (Mesh.Algorithm 6), else
 // Delaunay's (5) or MeshAdapt (1), recombined into quadrilaterals by
 // Blossom matching (Mesh.RecombinationAlgorithm 1); where each leaves a
