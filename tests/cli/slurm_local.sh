@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# scripts/slurm-local: a single-node Slurm cluster starts as root without
+# systemd, runs an 8-task job array (every task's output written), shows a
+# failed task's state and exit code in `scontrol show job`, and stops by
+# its pids (none left running). Skipped (exit 77) only where the cluster
+# cannot be had: not root, or Debian's packages cannot be installed.
+set -u
+src=$2
+tmp=$(mktemp -d)
+export RPFEM_SLURM_DIR=$tmp/slurm
+cleanup() { "$src/scripts/slurm-local" stop > /dev/null 2>&1; rm -rf "$tmp"; }
+trap cleanup EXIT
+[ "$(id -u)" -eq 0 ] || { echo "SKIPPED: scripts/slurm-local needs root"; exit 77; }
+if ! "$src/scripts/slurm-local" start > "$tmp/start.log" 2>&1; then
+  if grep -q "installing" "$tmp/start.log" && ! command -v slurmctld > /dev/null; then
+    echo "SKIPPED: Slurm's Debian packages cannot be installed here"; cat "$tmp/start.log"; exit 77
+  fi
+  echo "FAIL: the cluster did not start"; cat "$tmp/start.log"; exit 1
+fi
+cat "$tmp/start.log"
+eval "$("$src/scripts/slurm-local" env)"
+cat > "$tmp/task.sh" <<TASK
+#!/bin/bash
+echo "task \$SLURM_ARRAY_TASK_ID" > "$tmp/out_\$SLURM_ARRAY_TASK_ID"
+TASK
+printf '#!/bin/bash\nexit 3\n' > "$tmp/fail.sh"
+array=$(sbatch --parsable --array=0-7 -o "$tmp/slurm-%A_%a.log" "$tmp/task.sh") || { echo "FAIL: sbatch"; exit 1; }
+failed=$(sbatch --parsable -o /dev/null "$tmp/fail.sh") || { echo "FAIL: sbatch"; exit 1; }
+for _ in $(seq 300); do
+  [ -z "$(squeue -h -j "$array,$failed" 2>/dev/null)" ] && break
+  sleep 0.2
+done
+[ -z "$(squeue -h -j "$array,$failed" 2>/dev/null)" ] || { echo "FAIL: jobs still queued after 60 s"; squeue; exit 1; }
+for i in $(seq 0 7); do
+  [ "$(cat "$tmp/out_$i" 2>/dev/null)" = "task $i" ] || { echo "FAIL: array task $i wrote nothing"; exit 1; }
+done
+scontrol show job "$failed" | grep -q "JobState=FAILED" && scontrol show job "$failed" | grep -q "ExitCode=3:0" \
+  || { echo "FAIL: the failed job's state"; scontrol show job "$failed"; exit 1; }
+pids=$(cat "$RPFEM_SLURM_DIR/pids")
+"$src/scripts/slurm-local" stop || { echo "FAIL: stop"; exit 1; }
+for p in $pids; do
+  ! kill -0 "$p" 2>/dev/null || { echo "FAIL: daemon $p still running after stop"; exit 1; }
+done
+echo "ok: local Slurm cluster ran an 8-task array and a failing job, and stopped"
