@@ -42,6 +42,18 @@ void pool_options(CLI::App* cmd, Options& o, const std::string& cases_help, cons
   cmd->add_option("--jobs,-j", o.jobs, "runs in parallel (default: the machine's cores)");
   cmd->add_flag("--quick", o.quick, quick_help);
   cmd->add_flag("--quiet,-q", o.quiet, "no progress output");
+  auto& e = o.engine;
+  cmd->add_option("--engine", e.engine, "where the runs execute: local (this machine's cores) or slurm (job arrays; "
+                                        "docs/cluster.md)")
+      ->check(CLI::IsMember({"local", "slurm"}))
+      ->capture_default_str();
+  cmd->add_option("--partition", e.slurm.partition, "slurm: sbatch --partition");
+  cmd->add_option("--time", e.slurm.time_limit, "slurm: each task's time limit (sbatch --time, e.g. 30:00)");
+  cmd->add_option("--account", e.slurm.account, "slurm: sbatch --account");
+  cmd->add_option("--mem", e.slurm.memory, "slurm: memory per task (sbatch --mem, e.g. 2G)");
+  cmd->add_option("--sbatch-arg", e.slurm.extra, "slurm: one more sbatch argument (repeatable)");
+  cmd->add_option("--array-limit", e.slurm.concurrency, "slurm: at most N tasks at once (the array's %N; 0: no limit)")
+      ->check(CLI::NonNegativeNumber);
 }
 
 // `rpfem suite`: every scene and the studies, then the report.

@@ -109,13 +109,17 @@ void print_progress(const std::vector<PoolRun>& runs, const std::vector<Slot>& s
 
 }  // namespace
 
-void run_one(PoolRun& r, const std::string& self) {
-  fs::create_directories(r.dir);
+std::string run_command(const PoolRun& r, const std::string& self) {
   std::string cmd = shell_quote(self) + " run " + shell_quote(r.case_file) + " --out " + shell_quote(r.dir) + " --quiet";
   if (!r.formulation.empty()) cmd += " --formulation " + shell_quote(r.formulation);
   if (!r.variant.empty()) cmd += " --variant " + shell_quote(r.variant);
   for (const auto& o : r.overrides) cmd += " --set " + shell_quote(o);
-  cmd += " > " + shell_quote(r.dir + "/run.log") + " 2>&1";
+  return cmd;
+}
+
+void run_one(PoolRun& r, const std::string& self) {
+  fs::create_directories(r.dir);
+  const std::string cmd = run_command(r, self) + " > " + shell_quote(r.dir + "/run.log") + " 2>&1";
   const auto s0 = Clock::now();
   r.rc = run_shell(cmd);
   r.seconds = std::chrono::duration<double>(Clock::now() - s0).count();

@@ -23,6 +23,9 @@ struct PoolRun {
 
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet);
 
+// The exact `rpfem run` command line of a run (the executable `self`).
+std::string run_command(const PoolRun& r, const std::string& self);
+
 // One `rpfem run` of the executable `self` into r.dir (created; its log in
 // r.dir/run.log): fills r.rc and r.seconds. The pool's worker, and
 // `rpfem calibrate`'s evaluations.

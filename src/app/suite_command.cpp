@@ -10,7 +10,7 @@
 #include <toml++/toml.h>
 
 #include "app/case_folder.hpp"
-#include "app/run_pool.hpp"
+#include "app/run_engine.hpp"
 #include "app/subprocess.hpp"
 #include "app/suite_studies.hpp"
 #include "io/variants.hpp"
@@ -146,7 +146,7 @@ int suite_command(const SuiteOptions& options) {
   // One pool for the scenes' runs and the studies': --jobs holds for all.
   std::vector<Job> all = jobs;
   for (const auto& p : studies) all.insert(all.end(), p.runs.begin(), p.runs.end());
-  run_pool(all, opt.jobs, opt.quiet);
+  run_runs(all, opt.out_dir, opt.engine, opt.jobs, opt.quiet);
   std::copy_n(all.begin(), jobs.size(), jobs.begin());
   auto next = all.begin() + static_cast<std::ptrdiff_t>(jobs.size());
   std::vector<int> stopped;

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "app/run_engine.hpp"
+
 namespace rpfem {
 
 struct SuiteOptions {
@@ -35,6 +37,7 @@ struct SuiteOptions {
   bool variants = true;
   bool report = true;
   bool quiet = false;
+  EngineOptions engine;  // where the runs execute (local pool or Slurm)
 };
 
 // Exit code: 0 all runs finished and the report was built, 3 a scene's run

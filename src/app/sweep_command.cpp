@@ -11,7 +11,7 @@
 #include <toml++/toml.h>
 
 #include "app/case_setup.hpp"
-#include "app/run_pool.hpp"
+#include "app/run_engine.hpp"
 #include "app/study.hpp"
 #include "core/types.hpp"
 #include "core/version.hpp"
@@ -343,7 +343,7 @@ int sweep_command(const SweepOptions& opt) {
   if (!opt.quiet)
     std::printf("rpfem sweep %s: %s, results in %s\n", plan.study.name.c_str(), plan.study.description.c_str(),
                 opt.out_dir.c_str());
-  run_pool(plan.runs, opt.jobs, opt.quiet);
+  run_runs(plan.runs, opt.out_dir, opt.engine, opt.jobs, opt.quiet);
   return write_sweep(plan) ? 3 : 0;
 }
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "app/run_pool.hpp"
+#include "app/run_engine.hpp"
 #include "app/study.hpp"
 
 namespace rpfem {
@@ -24,6 +24,7 @@ struct SweepOptions {
   int jobs = 0;                        // 0: the machine's cores
   bool quick = false;                  // the axes' quick values, quick_set
   bool quiet = false;
+  EngineOptions engine;                // where the runs execute (local pool or Slurm)
 };
 
 // A study's runs before they run: the grid in row-major order (the last

@@ -1,0 +1,245 @@
+#include "app/run_engine.hpp"
+
+#include <array>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "app/subprocess.hpp"
+#include "core/types.hpp"
+
+namespace fs = std::filesystem;
+
+namespace rpfem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) { g_interrupted = 1; }
+
+// A command's standard output (its exit code in rc).
+std::string capture(const std::string& cmd, int* rc = nullptr) {
+  std::string out;
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) throw std::runtime_error("cannot run: " + cmd);
+  std::array<char, 4096> buf;
+  for (std::size_t n; (n = std::fread(buf.data(), 1, buf.size(), p)) > 0;) out.append(buf.data(), n);
+  const int status = pclose(p);
+  if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A quoted JSON value after "key" in text ("" if none).
+std::string json_text(const std::string& text, const std::string& key) {
+  const auto k = text.find("\"" + key + "\"");
+  if (k == std::string::npos) return "";
+  const auto a = text.find('"', text.find(':', k) + 1);
+  const auto b = text.find('"', a + 1);
+  return a == std::string::npos || b == std::string::npos ? "" : text.substr(a + 1, b - a - 1);
+}
+
+double json_number(const std::string& text, const std::string& key) {
+  const auto k = text.find("\"" + key + "\"");
+  return k == std::string::npos ? 0.0 : std::strtod(text.c_str() + text.find(':', k) + 1, nullptr);
+}
+
+// The cluster's MaxArraySize (scontrol show config): an array's task ids
+// run 0 to MaxArraySize - 1.
+int max_array_size() {
+  const std::string config = capture("scontrol show config");
+  const auto k = config.find("MaxArraySize");
+  const int n = k == std::string::npos ? 0 : std::atoi(config.c_str() + config.find('=', k) + 1);
+  return n > 1 ? n : 1001;
+}
+
+// The task's script: line OFFSET + id + 1 of commands.txt into the folder
+// on the same line of dirs.txt, its exit code and wall time after.
+std::string array_script(const std::string& slurm_dir) {
+  const std::string q = shell_quote(slurm_dir);
+  return "#!/bin/bash\n"
+         "# One task of an rpfem job array (src/app/run_engine.cpp).\n"
+         "i=$((SLURM_ARRAY_TASK_ID + RPFEM_TASK_OFFSET + 1))\n"
+         "dir=$(sed -n \"${i}p\" " + q + "/dirs.txt)\n"
+         "cmd=$(sed -n \"${i}p\" " + q + "/commands.txt)\n"
+         "mkdir -p \"$dir\" || exit 90\n"
+         "t0=$(date +%s.%N)\n"
+         "bash -c \"$cmd\" > \"$dir/run.log\" 2>&1\n"
+         "rc=$?\n"
+         "t1=$(date +%s.%N)\n"
+         "echo \"$rc $(awk \"BEGIN { print $t1 - $t0 }\")\" > \"$dir/exit_code\"\n"
+         "exit $rc\n";
+}
+
+struct Task {
+  std::size_t run;  // index into runs
+  std::string job;  // JOBID_TASK
+  bool ended = false;
+};
+
+}  // namespace
+
+namespace {
+
+void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const SlurmOptions& o, bool quiet) {
+  int rc = 0;
+  capture("sbatch --version", &rc);
+  if (rc != 0)
+    throw InputError("--engine slurm: sbatch is not on PATH (scripts/slurm-local start gives a test cluster; "
+                     "docs/cluster.md)");
+  const std::string self = self_executable();
+  const std::string slurm_dir = fs::absolute(work_dir + "/slurm").string();
+  fs::create_directories(slurm_dir);
+  const auto t0 = Clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  // Finished before (this folder's earlier run of the same command): kept.
+  std::vector<std::size_t> todo;
+  int done = 0;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string summary = read_file(runs[i].dir + "/summary.json");
+    if (json_text(summary, "status") == "finished") {
+      runs[i].rc = 0, runs[i].seconds = json_number(summary, "wall_time_s");
+      ++done;
+      continue;
+    }
+    todo.push_back(i);
+  }
+  {
+    std::ofstream cmds(slurm_dir + "/commands.txt"), dirs(slurm_dir + "/dirs.txt"), sh(slurm_dir + "/array.sh");
+    for (std::size_t i : todo) {
+      PoolRun r = runs[i];
+      r.dir = fs::absolute(r.dir).string();
+      cmds << run_command(r, self) << "\n";
+      dirs << r.dir << "\n";
+      fs::remove(r.dir + "/exit_code");
+    }
+    sh << array_script(slurm_dir);
+    if (!cmds || !dirs || !sh) throw InputError("--engine slurm: cannot write to " + slurm_dir);
+  }
+  if (!quiet)
+    std::printf("%zu runs on Slurm: %zu submitted, %d finished before (%s)\n", runs.size(), todo.size(), done,
+                slurm_dir.c_str());
+  if (todo.empty()) return;
+  // One array per MaxArraySize tasks.
+  std::vector<Task> tasks;
+  std::vector<std::string> jobs;
+  const int chunk = max_array_size();
+  for (std::size_t first = 0; first < todo.size(); first += chunk) {
+    const std::size_t n = std::min<std::size_t>(chunk, todo.size() - first);
+    std::string cmd = "sbatch --parsable -J rpfem --array=0-" + std::to_string(n - 1);
+    if (o.concurrency > 0) cmd += "%" + std::to_string(o.concurrency);
+    cmd += " -o " + shell_quote(slurm_dir + "/task-%A_%a.log");
+    cmd += " --export=ALL,RPFEM_TASK_OFFSET=" + std::to_string(first);
+    if (!o.partition.empty()) cmd += " -p " + shell_quote(o.partition);
+    if (!o.time_limit.empty()) cmd += " -t " + shell_quote(o.time_limit);
+    if (!o.account.empty()) cmd += " -A " + shell_quote(o.account);
+    if (!o.memory.empty()) cmd += " --mem " + shell_quote(o.memory);
+    for (const auto& a : o.extra) cmd.append(1, ' ').append(shell_quote(a));
+    cmd.append(1, ' ').append(shell_quote(slurm_dir + "/array.sh"));
+    std::string id = capture(cmd, &rc);
+    if (rc != 0) throw InputError("--engine slurm: sbatch refused the array: " + id);
+    id = id.substr(0, id.find_first_of(";\n"));
+    jobs.push_back(id);
+    for (std::size_t t = 0; t < n; ++t) tasks.push_back({todo[first + t], id + "_" + std::to_string(t)});
+    if (!quiet) std::printf("  submitted job array %s: %zu tasks\n", id.c_str(), n);
+  }
+  std::string job_list;
+  for (const auto& j : jobs) job_list += (job_list.empty() ? "" : ",") + j;
+  // Ctrl-C or a scheduler's SIGTERM cancels the arrays.
+  g_interrupted = 0;
+  struct sigaction sa {}, old_int {}, old_term {};
+  sa.sa_handler = on_interrupt;
+  sigaction(SIGINT, &sa, &old_int);
+  sigaction(SIGTERM, &sa, &old_term);
+  std::size_t ended = 0;
+  auto last_report = Clock::now();
+  while (ended < tasks.size()) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(o.poll_seconds));
+    if (g_interrupted) {
+      capture("scancel " + shell_quote(job_list));
+      std::fprintf(stderr, "rpfem: interrupted: cancelled Slurm job(s) %s; run the same command again to resume\n",
+                   job_list.c_str());
+      std::exit(130);
+    }
+    // The tasks still queued or running, by JOBID_TASK.
+    std::map<std::string, std::string> state;
+    std::istringstream q(capture("squeue -h -r -o '%i %t' -j " + shell_quote(job_list)));
+    for (std::string id, st; q >> id >> st;) state[id] = st;
+    int pending = 0, running = 0, failed = 0;
+    for (Task& t : tasks) {
+      if (t.ended) {
+        failed += runs[t.run].rc != 0;
+        continue;
+      }
+      PoolRun& r = runs[t.run];
+      const auto it = state.find(t.job);
+      const bool has_code = fs::exists(r.dir + "/exit_code");
+      if (it != state.end() && !has_code) {
+        (it->second == "PD" ? pending : running)++;
+        continue;
+      }
+      t.ended = true, ++ended, ++done;
+      std::string how;
+      if (has_code) {
+        std::istringstream c(read_file(r.dir + "/exit_code"));
+        c >> r.rc >> r.seconds;
+        how = r.rc == 0 ? "finished" : "stopped, exit " + std::to_string(r.rc);
+      } else {
+        // Ended without its exit code: cancelled, out of time, failed to
+        // start, or a folder this node cannot write.
+        const std::string info = capture("scontrol show job -o " + shell_quote(t.job));
+        const auto field = [&](const std::string& k) {
+          const auto a = info.find(k + "=");
+          return a == std::string::npos ? std::string("unknown")
+                                        : info.substr(a + k.size() + 1, info.find(' ', a) - a - k.size() - 1);
+        };
+        r.rc = -1;
+        how = "Slurm " + field("JobState") + ", exit code " + field("ExitCode");
+        std::ofstream(r.dir + "/run.log", std::ios::app)
+            << "rpfem: Slurm task " << t.job << " ended " << field("JobState") << " (exit code " << field("ExitCode")
+            << ", reason " << field("Reason") << ") without its exit code in " << r.dir
+            << " (the output folder must be on a filesystem the nodes share)\n";
+      }
+      failed += r.rc != 0;
+      if (!quiet)
+        std::printf("[%d/%zu] %s: %s in %.1f s (%.0f s elapsed)\n", done, runs.size(), r.label.c_str(), how.c_str(),
+                    r.seconds, elapsed());
+    }
+    if (!quiet && std::chrono::duration<double>(Clock::now() - last_report).count() >= 10) {
+      std::printf("  slurm %s: %d pending, %d running, %zu done, %d failed, %.0f s elapsed\n", job_list.c_str(), pending,
+                  running, ended, failed, elapsed());
+      last_report = Clock::now();
+    }
+    std::fflush(stdout);
+  }
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+}
+
+}  // namespace
+
+void run_runs(std::vector<PoolRun>& runs, const std::string& work_dir, const EngineOptions& engine, int jobs,
+              bool quiet) {
+  if (engine.engine == "local")
+    run_pool(runs, jobs, quiet);
+  else if (engine.engine == "slurm")
+    run_slurm(runs, work_dir, engine.slurm, quiet);
+  else
+    throw InputError("--engine: '" + engine.engine + "' is unknown; expected local or slurm");
+}
+
+}  // namespace rpfem

@@ -1,0 +1,43 @@
+// Where the independent runs of `rpfem sweep` and `rpfem suite` execute:
+// the local pool (app/run_pool.hpp) or a Slurm cluster, as job arrays
+// (docs/cluster.md). Either way each run's results land in its folder and
+// its exit code and wall time in its PoolRun, so the tables and reports
+// that follow are the same.
+//
+// The Slurm engine writes WORK/slurm/commands.txt (line i: the exact `rpfem
+// run` command of task i) and WORK/slurm/dirs.txt (its folder), submits one
+// `sbatch --array` per MaxArraySize tasks, and polls `squeue` every second
+// (not `sbatch --wait`, which polls every 32 s), printing the pool's lines.
+// Each task writes its run's exit code to DIR/exit_code; a task that ends
+// without one (cancelled, out of time, its node lost, or a folder the node
+// cannot write) is reported with its Slurm state and exit code, appended to
+// DIR/run.log. Runs whose summary.json says finished are not submitted
+// again: the same command on the same folder resumes a study. Ctrl-C (or
+// SIGTERM) cancels the arrays (scancel) and exits 130.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "app/run_pool.hpp"
+
+namespace rpfem {
+
+struct SlurmOptions {
+  std::string partition, time_limit, account, memory;  // sbatch -p, -t, -A, --mem (empty: the cluster's default)
+  std::vector<std::string> extra;                      // more sbatch arguments, one word each
+  int concurrency = 0;  // the array's %N: at most N tasks at once (0: no limit)
+  double poll_seconds = 1.0;
+};
+
+struct EngineOptions {
+  std::string engine = "local";  // "local" or "slurm"
+  SlurmOptions slurm;
+};
+
+// Runs `runs` (their rc and seconds filled). work_dir holds the engine's
+// own files (Slurm: WORK/slurm/). jobs: the local pool's workers.
+// Throws InputError for an unknown engine or a Slurm that cannot be used.
+void run_runs(std::vector<PoolRun>& runs, const std::string& work_dir, const EngineOptions& engine, int jobs,
+              bool quiet);
+
+}  // namespace rpfem

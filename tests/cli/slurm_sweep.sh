@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# `rpfem sweep --engine slurm` on the local test cluster (scripts/slurm-local):
+# a 9-run study (upsetting, penalty at three betas by three meshes) gives
+# the same table as the local pool in every result column (wall times
+# aside); run again on its folder, it submits nothing (every run finished);
+# with a run's summary removed, only that run; interrupted, it cancels the
+# array and the same command resumes it. A run that stops (exit 3) and
+# one Slurm kills at its time limit are reported, and the table records
+# them as stopped. Skipped (exit 77) where the cluster cannot be had.
+set -u
+rpfem=$1; src=$2
+tmp=$(mktemp -d)
+export RPFEM_SLURM_DIR=$tmp/slurm
+cleanup() { "$src/scripts/slurm-local" stop > /dev/null 2>&1; rm -rf "$tmp"; }
+trap cleanup EXIT
+[ "$(id -u)" -eq 0 ] || { echo "SKIPPED: scripts/slurm-local needs root"; exit 77; }
+if ! "$src/scripts/slurm-local" start > "$tmp/start.log" 2>&1; then
+  if ! command -v slurmctld > /dev/null; then
+    echo "SKIPPED: Slurm's Debian packages cannot be installed here"; cat "$tmp/start.log"; exit 77
+  fi
+  echo "FAIL: the cluster did not start"; cat "$tmp/start.log"; exit 1
+fi
+eval "$("$src/scripts/slurm-local" env)"
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+cat > "$tmp/study.toml" <<TOML
+[study]
+description = "upsetting, penalty beta by mesh"
+case = "upsetting_dies_frictionless_axisym"
+formulation = "penalty"
+load = "top_die.Fy"
+set = ["stepping.end_stroke=0.3"]
+[[study.axis]]
+key = "formulations.penalty.beta_factor"
+values = [0.01, 1.0, 100.0]
+[[study.axis]]
+key = "run.mesh_factor"
+values = [0.2, 0.25, 0.3]
+TOML
+t0=$(date +%s.%N)
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/local" --jobs 2 --quiet; rc=$?
+t1=$(date +%s.%N)
+check "local sweep exits 0" '[ $rc -eq 0 ]'
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm > "$tmp/s1.log" 2>&1; rc=$?
+t2=$(date +%s.%N)
+check "slurm sweep exits 0" '[ $rc -eq 0 ]'
+check "nine tasks submitted" 'grep -q "9 runs on Slurm: 9 submitted, 0 finished before" "$tmp/s1.log"'
+check "commands.txt holds the runs" '[ "$(grep -c " run " "$tmp/slurm_out/slurm/commands.txt")" -eq 9 ]'
+same_table() {
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import csv, sys
+a, b = (list(csv.DictReader(open(p))) for p in sys.argv[1:3])
+assert len(a) == len(b) == 9, (len(a), len(b))
+for ra, rb in zip(a, b):
+    for k in ra:
+        if k.endswith("_s") or "second" in k:  # wall times
+            continue
+        assert ra[k] == rb[k], (k, ra[k], rb[k])
+PY
+}
+check "slurm and local tables agree in every result column" 'same_table "$tmp/local/sweep.csv" "$tmp/slurm_out/sweep.csv"'
+echo "measured: local $(awk "BEGIN { print $t1 - $t0 }") s, slurm $(awk "BEGIN { print $t2 - $t1 }") s for 9 runs"
+# Again on the same folder: nothing to submit; with one run's summary gone, that run only.
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm > "$tmp/s2.log" 2>&1
+check "a finished study submits nothing" 'grep -q "9 runs on Slurm: 0 submitted, 9 finished before" "$tmp/s2.log"'
+victim=$tmp/slurm_out/runs/004
+rm "$victim/summary.json"
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm > "$tmp/s3.log" 2>&1
+check "only the unfinished run resubmitted" 'grep -q "9 runs on Slurm: 1 submitted, 8 finished before" "$tmp/s3.log"'
+# Interrupted (SIGTERM, as Ctrl-C) while the array runs one task at a time:
+# the array is cancelled, exit 130; the same command then submits only the
+# runs that did not finish, and the table is the local one.
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm --array-limit 1 > "$tmp/c1.log" 2>&1 &
+pid=$!
+for _ in $(seq 100); do [ "$(grep -c "finished in" "$tmp/c1.log")" -ge 3 ] && break; sleep 0.1; done
+kill -TERM $pid; wait $pid; rc=$?
+check "interrupted: exit 130, the array cancelled" '[ $rc -eq 130 ] && grep -q "cancelled Slurm job" "$tmp/c1.log"'
+sleep 1
+check "nothing left in the queue" '[ -z "$(squeue -h)" ]'
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm > "$tmp/c2.log" 2>&1; rc=$?
+done_before=$(grep -o "[0-9]* finished before" "$tmp/c2.log" | cut -d' ' -f1)
+check "resumed: exit 0, only the unfinished submitted" '[ $rc -eq 0 ] && [ "${done_before:-0}" -ge 3 ] && [ "$done_before" -lt 9 ]'
+check "resumed table as the local one" 'same_table "$tmp/local/sweep.csv" "$tmp/cut/sweep.csv"'
+echo "measured: the interrupted study resumed with $done_before of 9 runs finished before"
+# A run that stops (a step limit) and one killed at its time limit.
+cat > "$tmp/bad.toml" <<TOML
+[study]
+description = "stops"
+case = "upsetting_dies_frictionless_axisym"
+formulation = "penalty"
+load = "top_die.Fy"
+set = ["stepping.end_stroke=0.3", "run.mesh_factor=0.25", "solver.max_iterations=1", "stepping.max_cuts=0"]
+[[study.axis]]
+key = "formulations.penalty.beta_factor"
+values = [1.0]
+TOML
+"$rpfem" sweep "$tmp/bad.toml" --out "$tmp/bad" --engine slurm > "$tmp/b.log" 2>&1; rc=$?
+check "a stopped run: exit 3, its exit code reported" '[ $rc -eq 3 ] && grep -q "stopped, exit 3" "$tmp/b.log"'
+cat > "$tmp/slow.toml" <<TOML
+[study]
+description = "slow"
+case = "upsetting_dies_frictionless_axisym"
+formulation = "ipopt"
+load = "top_die.Fy"
+set = ["stepping.end_stroke=5", "stepping.stroke_increment=0.001"]
+[[study.axis]]
+key = "run.mesh_factor"
+values = [1.0]
+TOML
+"$rpfem" sweep "$tmp/slow.toml" --out "$tmp/slow" --engine slurm --time 0:02 > "$tmp/t.log" 2>&1; rc=$?
+check "a run out of time: its Slurm state reported" '[ $rc -eq 3 ] && grep -q "Slurm TIMEOUT" "$tmp/t.log"'
+check "the table records it stopped" 'grep -q ",0," "$tmp/slow/sweep.csv"'
+[ $fail -eq 0 ] || { cat "$tmp/s1.log" "$tmp/b.log" "$tmp/t.log"; exit 1; }
+echo "ok: slurm engine"
