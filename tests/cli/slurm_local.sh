@@ -7,18 +7,7 @@
 set -u
 src=$2
 tmp=$(mktemp -d)
-export RPFEM_SLURM_DIR=$tmp/slurm
-cleanup() { "$src/scripts/slurm-local" stop > /dev/null 2>&1; rm -rf "$tmp"; }
-trap cleanup EXIT
-[ "$(id -u)" -eq 0 ] || { echo "SKIPPED: scripts/slurm-local needs root"; exit 77; }
-if ! "$src/scripts/slurm-local" start > "$tmp/start.log" 2>&1; then
-  if grep -q "installing" "$tmp/start.log" && ! command -v slurmctld > /dev/null; then
-    echo "SKIPPED: Slurm's Debian packages cannot be installed here"; cat "$tmp/start.log"; exit 77
-  fi
-  echo "FAIL: the cluster did not start"; cat "$tmp/start.log"; exit 1
-fi
-cat "$tmp/start.log"
-eval "$("$src/scripts/slurm-local" env)"
+. "$(dirname "$0")/lib/slurm_cluster.bash"
 cat > "$tmp/task.sh" <<TASK
 #!/bin/bash
 echo "task \$SLURM_ARRAY_TASK_ID" > "$tmp/out_\$SLURM_ARRAY_TASK_ID"

@@ -10,17 +10,7 @@
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d)
-export RPFEM_SLURM_DIR=$tmp/slurm
-cleanup() { "$src/scripts/slurm-local" stop > /dev/null 2>&1; rm -rf "$tmp"; }
-trap cleanup EXIT
-[ "$(id -u)" -eq 0 ] || { echo "SKIPPED: scripts/slurm-local needs root"; exit 77; }
-if ! "$src/scripts/slurm-local" start > "$tmp/start.log" 2>&1; then
-  if ! command -v slurmctld > /dev/null; then
-    echo "SKIPPED: Slurm's Debian packages cannot be installed here"; cat "$tmp/start.log"; exit 77
-  fi
-  echo "FAIL: the cluster did not start"; cat "$tmp/start.log"; exit 1
-fi
-eval "$("$src/scripts/slurm-local" env)"
+. "$(dirname "$0")/lib/slurm_cluster.bash"
 fail=0
 check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
 cat > "$tmp/study.toml" <<TOML
