@@ -10,6 +10,7 @@
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d)
+export RPFEM_SLURM_MAX_ARRAY_SIZE=5  # the 9-run grid as two arrays
 . "$(dirname "$0")/lib/slurm_cluster.bash"
 fail=0
 check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
@@ -35,6 +36,7 @@ check "local sweep exits 0" '[ $rc -eq 0 ]'
 t2=$(date +%s.%N)
 check "slurm sweep exits 0" '[ $rc -eq 0 ]'
 check "nine tasks submitted" 'grep -q "9 runs on Slurm: 9 submitted, 0 finished before" "$tmp/s1.log"'
+check "as two arrays (MaxArraySize 5)" '[ "$(grep -c "submitted job array .*: [54] tasks" "$tmp/s1.log")" -eq 2 ]'
 check "commands.txt holds the runs" '[ "$(grep -c " run " "$tmp/slurm_out/slurm/commands.txt")" -eq 9 ]'
 same_table() {
   /usr/bin/python3 - "$1" "$2" <<'PY'
