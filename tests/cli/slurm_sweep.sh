@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `rpfem sweep --engine slurm` on the local test cluster (scripts/slurm-local):
-# a 9-run study (upsetting, penalty at three betas by three meshes) gives
+# a 9-run study (upsetting, penalty at three betas by three meshes; two
+# arrays, the cluster's MaxArraySize set to 5) gives
 # the same table as the local pool in every result column (wall times
 # aside); run again on its folder, it submits nothing (every run finished);
 # with a run's summary removed, only that run; interrupted, it cancels the
