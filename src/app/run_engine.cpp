@@ -134,6 +134,18 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
     std::printf("%zu runs on Slurm: %zu submitted, %d finished before (%s)\n", runs.size(), todo.size(), done,
                 slurm_dir.c_str());
   if (todo.empty()) return;
+  // The folder seen from a compute node: one short task writes a file
+  // there, the same partition and account as the arrays.
+  std::string where;
+  if (!o.partition.empty()) where += " -p " + shell_quote(o.partition);
+  if (!o.account.empty()) where += " -A " + shell_quote(o.account);
+  const std::string probe = slurm_dir + "/probe";
+  fs::remove(probe);
+  const std::string said = capture("srun -N1 -n1 -t 1" + where + " touch " + shell_quote(probe), &rc);
+  if (rc != 0 || !fs::exists(probe))
+    throw InputError("--engine slurm: " + slurm_dir + " is not writable from a compute node (the output folder must "
+                     "be on a filesystem the nodes share): " + said);
+  fs::remove(probe);
   // One array per MaxArraySize tasks.
   std::vector<Task> tasks;
   std::vector<std::string> jobs;

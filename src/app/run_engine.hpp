@@ -8,6 +8,8 @@
 // run` command of task i) and WORK/slurm/dirs.txt (its folder), submits one
 // `sbatch --array` per MaxArraySize tasks, and polls `squeue` every second
 // (not `sbatch --wait`, which polls every 32 s), printing the pool's lines.
+// Before the arrays, a one-task `srun` writes a file into WORK/slurm from a
+// compute node: a folder the nodes do not share is bad input, said so.
 // Each task writes its run's exit code to DIR/exit_code; a task that ends
 // without one (cancelled, out of time, its node lost, or a folder the node
 // cannot write) is reported with its Slurm state and exit code, appended to
