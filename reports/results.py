@@ -26,7 +26,13 @@ def read_history(path):
 
 
 def press_column(hist, summary):
-    """The load column with the largest final |Fy|: the press load."""
+    """The press load's column: the stroke's reference (stepping.reference,
+    the die or velocity group that drives the press) where it has a load,
+    else the load with the largest final |Fy| (a die's reaction may be the
+    larger, as the container's bottom under a backward extrusion)."""
+    ref = summary.get("parameters", {}).get("stepping", {}).get("reference")
+    if isinstance(ref, str) and hist.get(ref + ".Fy"):
+        return ref + ".Fy"
     best, value = None, -1.0
     for name in summary.get("final_load_N", {}):
         col = name + ".Fy"
