@@ -1,6 +1,5 @@
 #include "app/run_engine.hpp"
 
-#include <array>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -13,6 +12,7 @@
 
 #include "app/subprocess.hpp"
 #include "core/types.hpp"
+#include "results.hpp"
 
 namespace fs = std::filesystem;
 
@@ -25,43 +25,10 @@ using Clock = std::chrono::steady_clock;
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
-// A command's standard output (its exit code in rc).
-std::string capture(const std::string& cmd, int* rc = nullptr) {
-  std::string out;
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) throw std::runtime_error("cannot run: " + cmd);
-  std::array<char, 4096> buf;
-  for (std::size_t n; (n = std::fread(buf.data(), 1, buf.size(), p)) > 0;) out.append(buf.data(), n);
-  const int status = pclose(p);
-  if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
-}
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// A quoted JSON value after "key" in text ("" if none).
-std::string json_text(const std::string& text, const std::string& key) {
-  const auto k = text.find("\"" + key + "\"");
-  if (k == std::string::npos) return "";
-  const auto a = text.find('"', text.find(':', k) + 1);
-  const auto b = text.find('"', a + 1);
-  return a == std::string::npos || b == std::string::npos ? "" : text.substr(a + 1, b - a - 1);
-}
-
-double json_number(const std::string& text, const std::string& key) {
-  const auto k = text.find("\"" + key + "\"");
-  return k == std::string::npos ? 0.0 : std::strtod(text.c_str() + text.find(':', k) + 1, nullptr);
-}
-
 // The cluster's MaxArraySize (scontrol show config): an array's task ids
 // run 0 to MaxArraySize - 1.
 int max_array_size() {
-  const std::string config = capture("scontrol show config");
+  const std::string config = capture_shell("scontrol show config");
   const auto k = config.find("MaxArraySize");
   const int n = k == std::string::npos ? 0 : std::atoi(config.c_str() + config.find('=', k) + 1);
   return n > 1 ? n : 1001;
@@ -91,13 +58,9 @@ struct Task {
   bool ended = false;
 };
 
-}  // namespace
-
-namespace {
-
 void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const SlurmOptions& o, bool quiet) {
   int rc = 0;
-  capture("sbatch --version", &rc);
+  capture_shell("sbatch --version", &rc);
   if (rc != 0)
     throw InputError("--engine slurm: sbatch is not on PATH (scripts/slurm-local start gives a test cluster; "
                      "docs/cluster.md)");
@@ -110,9 +73,9 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
   std::vector<std::size_t> todo;
   int done = 0;
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const std::string summary = read_file(runs[i].dir + "/summary.json");
-    if (json_text(summary, "status") == "finished") {
-      runs[i].rc = 0, runs[i].seconds = json_number(summary, "wall_time_s");
+    const Summary summary(runs[i].dir);
+    if (summary.string("status").value_or("") == "finished") {
+      runs[i].rc = 0, runs[i].seconds = summary.number("wall_time_s").value_or(0.0);
       ++done;
       continue;
     }
@@ -141,7 +104,7 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
   if (!o.account.empty()) where += " -A " + shell_quote(o.account);
   const std::string probe = slurm_dir + "/probe";
   fs::remove(probe);
-  const std::string said = capture("srun -N1 -n1 -t 1" + where + " touch " + shell_quote(probe), &rc);
+  const std::string said = capture_shell("srun -N1 -n1 -t 1" + where + " touch " + shell_quote(probe), &rc);
   if (rc != 0 || !fs::exists(probe))
     throw InputError("--engine slurm: " + slurm_dir + " is not writable from a compute node (the output folder must "
                      "be on a filesystem the nodes share): " + said);
@@ -162,7 +125,7 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
     if (!o.memory.empty()) cmd += " --mem " + shell_quote(o.memory);
     for (const auto& a : o.extra) cmd.append(1, ' ').append(shell_quote(a));
     cmd.append(1, ' ').append(shell_quote(slurm_dir + "/array.sh"));
-    std::string id = capture(cmd, &rc);
+    std::string id = capture_shell(cmd, &rc);
     if (rc != 0) throw InputError("--engine slurm: sbatch refused the array: " + id);
     id = id.substr(0, id.find_first_of(";\n"));
     jobs.push_back(id);
@@ -182,14 +145,14 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
   while (ended < tasks.size()) {
     std::this_thread::sleep_for(std::chrono::duration<double>(o.poll_seconds));
     if (g_interrupted) {
-      capture("scancel " + shell_quote(job_list));
+      capture_shell("scancel " + shell_quote(job_list));
       std::fprintf(stderr, "rpfem: interrupted: cancelled Slurm job(s) %s; run the same command again to resume\n",
                    job_list.c_str());
       std::exit(130);
     }
     // The tasks still queued or running, by JOBID_TASK.
     std::map<std::string, std::string> state;
-    std::istringstream q(capture("squeue -h -r -o '%i %t' -j " + shell_quote(job_list)));
+    std::istringstream q(capture_shell("squeue -h -r -o '%i %t' -j " + shell_quote(job_list)));
     for (std::string id, st; q >> id >> st;) state[id] = st;
     int pending = 0, running = 0, failed = 0;
     for (Task& t : tasks) {
@@ -207,13 +170,13 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
       t.ended = true, ++ended, ++done;
       std::string how;
       if (has_code) {
-        std::istringstream c(read_file(r.dir + "/exit_code"));
+        std::istringstream c(read_text(r.dir + "/exit_code"));
         c >> r.rc >> r.seconds;
         how = r.rc == 0 ? "finished" : "stopped, exit " + std::to_string(r.rc);
       } else {
         // Ended without its exit code: cancelled, out of time, failed to
         // start, or a folder this node cannot write.
-        const std::string info = capture("scontrol show job -o " + shell_quote(t.job));
+        const std::string info = capture_shell("scontrol show job -o " + shell_quote(t.job));
         const auto field = [&](const std::string& k) {
           const auto a = info.find(k + "=");
           return a == std::string::npos ? std::string("unknown")

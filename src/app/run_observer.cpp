@@ -9,15 +9,6 @@ namespace rpfem {
 
 namespace {
 
-// The press load of a step: the largest of its loads (a remesh's jump is
-// measured on it; a die's reaction elsewhere may be small).
-std::size_t press_load(const StepRecord& r) {
-  std::size_t k = 0;
-  for (std::size_t i = 1; i < r.loads.size(); ++i)
-    if (r.loads[i].norm() > r.loads[k].norm()) k = i;
-  return k;
-}
-
 toml::array pair(const Vec2& v) { return toml::array{v(0), v(1)}; }
 StepFields fields(const StepRecord& r) {
   StepFields f;
@@ -117,7 +108,7 @@ void RunObserver::on_step(const StepRecord& r) {
     // remesh's own jump, a contact event or a short step in that window
     // moves it.
     const double s0 = before_last_.stroke, s1 = last_.stroke;
-    const std::size_t k = press_load(last_);
+    const std::size_t k = press_load();
     const Vec2 F1 = last_.loads[k];
     const Vec2 F0 = before_last_.loads.size() > k ? before_last_.loads[k] : F1;
     const Vec2 line = s1 > s0 ? F1 + (F1 - F0) * ((r.stroke - s1) / (s1 - s0)) : F1;
@@ -150,6 +141,15 @@ void RunObserver::on_step(const StepRecord& r) {
     std::fflush(stdout);
   }
   if (r.step % 10 == 0) write_summary();
+}
+
+std::size_t RunObserver::press_load() const {
+  for (std::size_t i = 0; i < load_names_.size() && i < last_.loads.size(); ++i)
+    if (load_names_[i] == scene_.stepping.reference) return i;
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < last_.loads.size(); ++i)
+    if (last_.loads[i].norm() > last_.loads[k].norm()) k = i;
+  return k;
 }
 
 std::vector<Index> RunObserver::pinned_nodes() const {
@@ -193,7 +193,7 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
 
 void RunObserver::on_resumed(const StepRecord& r) {
   if (remeshes_.empty() || r.step != last_step_ || r.loads.empty() || last_.loads.empty()) return;
-  const std::size_t k = press_load(last_);
+  const std::size_t k = press_load();
   const Vec2 before = last_.loads[k];
   // Signed: positive where the new mesh carries the larger load.
   const double size = before.norm() > 0 ? (r.loads[k] - before).norm() / before.norm() : r.loads[k].norm();

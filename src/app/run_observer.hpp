@@ -40,6 +40,10 @@ class RunObserver final : public StepObserver {
 
  private:
   void write_summary();
+  // The press load's index in a step's loads: the stroke's reference
+  // (stepping.reference) where it has one, else the largest at the last
+  // step. A remesh's jump is measured on it.
+  std::size_t press_load() const;
 
   const Scene& scene_;
   std::string dir_;

@@ -1,6 +1,9 @@
 #include "app/subprocess.hpp"
 
+#include <array>
+#include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <filesystem>
 #include <sys/wait.h>
 
@@ -17,6 +20,17 @@ std::string self_executable() { return std::filesystem::read_symlink("/proc/self
 int run_shell(const std::string& command_line) {
   const int status = std::system(command_line.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string capture_shell(const std::string& command_line, int* rc) {
+  std::string out;
+  FILE* p = popen((command_line + " 2>&1").c_str(), "r");
+  if (!p) throw std::runtime_error("cannot run: " + command_line);
+  std::array<char, 4096> buf;
+  for (std::size_t n; (n = std::fread(buf.data(), 1, buf.size(), p)) > 0;) out.append(buf.data(), n);
+  const int status = pclose(p);
+  if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
 }
 
 }  // namespace rpfem

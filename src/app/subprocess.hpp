@@ -12,5 +12,8 @@ std::string shell_quote(const std::string& s);
 std::string self_executable();
 // Runs a shell command line; its exit code, -1 if it did not exit normally.
 int run_shell(const std::string& command_line);
+// Runs a shell command line; its standard output and error, its exit code
+// in *rc (-1 if it did not exit normally).
+std::string capture_shell(const std::string& command_line, int* rc = nullptr);
 
 }  // namespace rpfem

@@ -100,16 +100,24 @@ FrictionLaw read_friction(CaseSection f) {
   return out;
 }
 
+// "a, b" -> {"a", "b"}, each trimmed of spaces ("" -> {""}).
+std::vector<std::string> comma_list(const std::string& text) {
+  std::vector<std::string> out;
+  for (std::size_t a = 0, b; a <= text.size(); a = b + 1) {
+    b = text.find(',', a);
+    if (b == std::string::npos) b = text.size();
+    std::string item = text.substr(a, b - a);
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    out.push_back(item);
+  }
+  return out;
+}
+
 // "a, b" -> {"body.a", "body.b"}, each a side of the body's mesh.
 std::vector<std::string> side_list(CaseSection& c, const std::string& key, const std::string& body, const Mesh& mesh) {
   std::vector<std::string> out;
-  const std::string sides = c.text(key, "boundary");
-  for (std::size_t a = 0, b; a <= sides.size(); a = b + 1) {
-    b = sides.find(',', a);
-    if (b == std::string::npos) b = sides.size();
-    std::string side = sides.substr(a, b - a);
-    side.erase(0, side.find_first_not_of(' '));
-    side.erase(side.find_last_not_of(' ') + 1);
+  for (const std::string& side : comma_list(c.text(key, "boundary"))) {
     const std::string full = body + "." + side;
     if (!mesh.sides.count(full)) c.fail(key, "no side '" + full + "' on the mesh");
     out.push_back(full);
@@ -328,7 +336,7 @@ void read_remesh(CaseSection r, Scene& sc) {
                           "configuration (at most remesh.min_scaled_jacobian)");
   m.stroke_interval = r.real("stroke_interval", 0.0, Range::nonnegative(), "mm of stroke between remeshes (0: never)");
   m.die_interference = r.real("die_interference", 1.0 / 3, Range::nonnegative(),
-                              "share of the body's edge a die corner may reach into it (0: never)");
+                              "share of the target element size at a die's corner that the corner may reach into the body (0: never)");
   m.element_size = r.real("element_size", 0.0, Range::nonnegative(), "mm (0: each body's mean initial edge length)");
   m.max_remeshes = r.integer("max_remeshes", 100, 1, 100000);
   m.die_corner_size = r.real("die_corner_size", 0.25, {0.05, 1, false, false},
@@ -338,12 +346,7 @@ void read_remesh(CaseSection r, Scene& sc) {
   // Which bodies: the names listed, else every body but a virtual rigid one
   // (it hardly deforms, and its outline is a tool's).
   const std::string names = r.text("bodies", "");
-  for (std::size_t a = 0, b; a < names.size(); a = b + 1) {
-    b = names.find(',', a);
-    if (b == std::string::npos) b = names.size();
-    std::string name = names.substr(a, b - a);
-    name.erase(0, name.find_first_not_of(' '));
-    name.erase(name.find_last_not_of(' ') + 1);
+  for (const std::string& name : names.empty() ? std::vector<std::string>{} : comma_list(names)) {
     const auto& all = sc.mesh.body_names;
     const auto it = std::find(all.begin(), all.end(), name);
     if (it == all.end()) r.fail("bodies", "a comma-separated list of body names; no body '" + name + "'");

@@ -86,7 +86,7 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
   }
   const std::vector<std::size_t> corner = simplify_outline(polygon, fixed, how);
   // Line k from old node corner[k] to the next corner: loop[k] is that
-  // straight edge, first[k] the first of the old edges it replaces.
+  // straight edge; line_of names the line that replaces each old edge.
   const int n = static_cast<int>(corner.size());
   std::vector<Edge> loop(n);
   std::map<std::pair<Index, Index>, int> line_of;  // old boundary edge -> its line
@@ -145,7 +145,7 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
   // else on Delaunay's or MeshAdapt's (Mesh.Algorithm 5, 1); should each
   // leave a triangle, the mesh at twice the size inside split into
   // quadrilaterals (every element into 3 or 4; the outline's segments too,
-  // so a later remesh keeps twice as many outline nodes).
+  // their midpoints in line, which the next remesh's simplification drops).
   const auto all_quads = [] {
     std::vector<int> types;
     std::vector<std::vector<std::size_t>> tags, nodes;

@@ -5,22 +5,16 @@
 #include <queue>
 #include <tuple>
 
+#include "mesh/polygon.hpp"
+
 namespace rpfem {
 
 namespace {
 
-// The volume a polygon edge a -> b sweeps with the origin: area (plane) or
-// 2 pi int r dA (axisymmetric), by Green's theorem (exact for straight
-// edges; Pappus for the triangle).
-double edge_volume(const Vec2& a, const Vec2& b, Geometry g) {
-  const double c = 0.5 * cross(a, b);
-  return g == Geometry::Axisymmetric ? 2 * kPi * c * (a(0) + b(0)) / 3 : c;
-}
-
 // The volume node i adds between its neighbours p and q (positive where
 // the outline bulges out at i).
 double triangle_volume(const Vec2& p, const Vec2& i, const Vec2& q, Geometry g) {
-  return edge_volume(p, i, g) + edge_volume(i, q, g) + edge_volume(q, p, g);
+  return edge_volume(p, i, g).v + edge_volume(i, q, g).v + edge_volume(q, p, g).v;
 }
 
 }  // namespace
@@ -29,7 +23,7 @@ std::vector<std::size_t> simplify_outline(const std::vector<Vec2>& x, const std:
                                           const OutlineSimplification& how) {
   const std::size_t n = x.size();
   double volume = 0;
-  for (std::size_t k = 0; k < n; ++k) volume += edge_volume(x[k], x[(k + 1) % n], how.geometry);
+  for (std::size_t k = 0; k < n; ++k) volume += edge_volume(x[k], x[(k + 1) % n], how.geometry).v;
   double budget = how.volume_tolerance * std::abs(volume);
   // A doubly linked ring over the nodes still in.
   std::vector<std::size_t> prev(n), next(n);

@@ -4,19 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "mesh/polygon.hpp"
+
 namespace rpfem {
-
-namespace {
-
-// Distance from p to the segment a b.
-double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 d = b - a;
-  const double L2 = d.squaredNorm();
-  const double s = L2 > 0 ? std::clamp((p - a).dot(d) / L2, 0.0, 1.0) : 0.0;
-  return (p - (a + s * d)).norm();
-}
-
-}  // namespace
 
 DieInterference die_interference(const Scene& scene, const std::vector<Vec2>& x, double t) {
   DieInterference worst;

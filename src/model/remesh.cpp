@@ -8,6 +8,7 @@
 #include "fem/quad4.hpp"
 #include "mesh/field_transfer.hpp"
 #include "mesh/outline_mesher.hpp"
+#include "mesh/polygon.hpp"
 
 namespace rpfem {
 
@@ -81,11 +82,7 @@ std::function<double(const Vec2&)> size_field(const Scene& scene, const BodyPart
   for (const Die& die : scene.dies)
     for (const Vec2& c : die.profile.corner_points(die.motion.displacement(t), false)) {
       double d = std::numeric_limits<double>::infinity();
-      for (const Edge& e : outline) {
-        const Vec2 a = p.mesh.x[e.a], ab = p.mesh.x[e.b] - a;
-        const double s = std::clamp((c - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
-        d = std::min(d, (c - a - s * ab).norm());
-      }
+      for (const Edge& e : outline) d = std::min(d, segment_distance(c, p.mesh.x[e.a], p.mesh.x[e.b]));
       if (d <= size) near.push_back(c);
     }
   if (near.empty()) return {};
@@ -119,21 +116,6 @@ std::function<Vec2(const Vec2&, const Vec2&, double)> die_placement(const Scene&
     }
     return p;
   };
-}
-
-// The volume a polygon edge a -> b sweeps with the origin (2 pi int r dA,
-// axisymmetric; the area, plane strain: Green's theorem), and its
-// gradients with respect to a and b.
-struct EdgeVolume {
-  double v;
-  Vec2 da, db;
-};
-EdgeVolume edge_volume(const Vec2& a, const Vec2& b, Geometry g) {
-  const double c = 0.5 * cross(a, b);
-  const Vec2 dc_da(0.5 * b(1), -0.5 * b(0)), dc_db(-0.5 * a(1), 0.5 * a(0));
-  if (g != Geometry::Axisymmetric) return {c, dc_da, dc_db};
-  const double k = 2 * kPi / 3, r = a(0) + b(0);
-  return {k * c * r, k * (dc_da * r + Vec2(c, 0)), k * (dc_db * r + Vec2(c, 0))};
 }
 
 // Moves body mesh m's free boundary nodes along their outward normals,

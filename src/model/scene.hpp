@@ -101,7 +101,8 @@ struct RemeshSpec {
   double reject_below = 0.2;
   double stroke_interval = 0;  // mm since the last remesh (0: never)
   // After a step in which a die's corner reaches deeper into a body than
-  // this share of the body's edge there (model/die_interference.hpp; 0: never).
+  // this share of the target element size there (size times
+  // die_corner_size; model/die_interference.hpp; 0: never).
   double die_interference = 1.0 / 3;
   double element_size = 0;     // mm (0: each body's mean initial edge length)
   double die_corner_size = 0.25;  // share of element_size at a die's corner near the body (1: uniform)

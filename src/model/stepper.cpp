@@ -475,25 +475,27 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   int cuts = 0;
   for (;; ++cuts) {
     a = Attempt{};
-    const std::string why = attempt(st, sol, step, dt, a);
-    if (why.empty() && !(scene_.remesh.enabled && a.quality < scene_.remesh.reject_below)) break;
-    if (scene_.remesh.enabled && (a.inverted || why.empty()) && step > segment_first_step_ + 1) {
-      // Remesh the last configuration rather than creep up to the fold, or
-      // let an element's quality fall below remesh.reject_below.
-      out_.remesh = "step " + std::to_string(step) + ": " +
-                    (why.empty() ? "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below" : why);
+    std::string why = attempt(st, sol, step, dt, a);
+    // A step that takes the least scaled Jacobian below the floor counts as
+    // failed where the run remeshes.
+    const bool poor = why.empty() && scene_.remesh.enabled && a.quality < scene_.remesh.reject_below;
+    if (poor) why = "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below";
+    if (why.empty()) break;
+    if (scene_.remesh.enabled && (a.inverted || poor) && step > segment_first_step_ + 1) {
+      // Remesh the last configuration rather than creep up to the fold.
+      out_.remesh = "step " + std::to_string(step) + ": " + why;
       return false;
     }
     // A fresh mesh (the run's first, or a remesh's) whose first step falls
     // below the floor: halved like a failing step, the last halving taken.
-    if (why.empty() && cuts == scene_.stepping.max_cuts) break;
+    if (poor && cuts == scene_.stepping.max_cuts) break;
     if (cuts == scene_.stepping.max_cuts) {
       out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) + " mm failed after " +
                     std::to_string(cuts) + " step halvings: " + why +
                     (a.factorized ? conditioning_note(a.rcond, a.stalled) : std::string());
       return false;
     }
-    obs_.on_retry(step, dt, why.empty() ? "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below" : why);
+    obs_.on_retry(step, dt, why);
     dt *= 0.5;
   }
   contact_.end_step(view(st, step, dt), a.moved_by);
@@ -534,7 +536,6 @@ RunOutcome Runner::run(const RunState* from) {
   st.x = scene_.mesh.x;
   st.strain.assign(scene_.mesh.num_elements(), {0, 0, 0, 0});
   std::vector<Vec2> guess(st.x.size(), Vec2::Zero());
-  int first = 0;
   if (from) {
     if (from->x.size() != st.x.size() || from->strain.size() != st.strain.size())
       throw std::invalid_argument("run_scene: the state to resume from is not on the scene's mesh");
@@ -542,7 +543,6 @@ RunOutcome Runner::run(const RunState* from) {
     segment_start_stroke_ = from->stroke;
     segment_first_step_ = from->step;
     if (from->v.size() == guess.size()) guess = from->v;
-    first = from->step;
     // The flow stress at the start: the law at the state's strain.
     for (Index e = 0; e < scene_.mesh.num_elements(); ++e) {
       double mean = 0;
@@ -555,6 +555,7 @@ RunOutcome Runner::run(const RunState* from) {
   // there (a contact penalty on the predicted gap depends on it), so the
   // solve repeats the recorded one on the new mesh.
   last_dt_ = from && from->dt > 0 ? from->dt : derived_.dt_nominal;
+  const int first = segment_first_step_;
   Solution sol = solve(st, guess, first, last_dt_, nullptr, !midpoint);
   if (!sol.failure.empty()) {
     out_.reason = "step " + std::to_string(first) + (from ? " (resumed)" : " (initial configuration)") + ": " +

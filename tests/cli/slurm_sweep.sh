@@ -14,8 +14,7 @@ rpfem=$1; src=$2
 tmp=$(mktemp -d)
 export RPFEM_SLURM_MAX_ARRAY_SIZE=5  # the 9-run grid as two arrays
 . "$(dirname "$0")/lib/slurm_cluster.bash"
-fail=0
-check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+. "$(dirname "$0")/lib/check.bash"
 cat > "$tmp/study.toml" <<TOML
 [study]
 description = "upsetting, penalty beta by mesh"

@@ -7,8 +7,7 @@
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+. "$(dirname "$0")/lib/check.bash"
 o=$tmp/o
 out=$("$rpfem" suite --out "$o" --jobs 2 --quick --scene upsetting_dies_frictionless_axisym \
   --study penalty_beta_test2 --study speed_accuracy_test2 --study mesh_convergence_test2 \

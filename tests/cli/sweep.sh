@@ -7,8 +7,7 @@
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+. "$(dirname "$0")/lib/check.bash"
 cat > "$tmp/study.toml" <<TOML
 [study]
 description = "upsetting, penalty beta"
