@@ -146,7 +146,7 @@ int fit_curve(const CalibrateOptions& opt) {
   s.lo = lo, s.hi = hi, s.x0 = x0, s.xtol = opt.xtol.value_or(1e-4), s.algorithm = nlopt::LN_BOBYQA;
   s.run_overrides = {"stepping.end_stroke=" + exact_text(target.x.back() / cmp.x_per_mm)};
   if (!(s.xtol > 0)) throw InputError("--xtol: expected a positive number");
-  RunSpec spec{opt.case_file, opt.formulation, opt.overrides, opt.param, opt.out_dir};
+  RunSpec spec{opt.case_file, opt.formulation, opt.overrides, opt.param, opt.out_dir, opt.engine};
   spec.overrides.insert(spec.overrides.end(), s.run_overrides.begin(), s.run_overrides.end());
   const std::string option = ring ? "--monitor" : "--load";
   CachedRuns runs(spec, [&](const History& h, const std::string& path) {

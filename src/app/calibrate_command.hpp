@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "app/run_engine.hpp"
+
 namespace rpfem {
 
 struct CalibrateOptions {
@@ -29,6 +31,7 @@ struct CalibrateOptions {
   std::optional<double> x0;
   std::optional<double> xtol;          // absolute on the value (auto-beta: on log10 beta_factor)
   int max_evals = 50;
+  EngineOptions engine;                // where the evaluations run (local or Slurm)
   bool quiet = false;
 };
 

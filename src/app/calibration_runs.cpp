@@ -74,7 +74,15 @@ Evaluation CachedRuns::evaluate(double value, bool* cached) {
   run.case_file = spec_.case_file, run.formulation = spec_.formulation, run.dir = dir;
   run.overrides = spec_.overrides;
   run.overrides.push_back(spec_.key + "=" + exact_text(value));
-  run_one(run, self_);
+  // One run at a time (each evaluation depends on the last): on this
+  // machine directly, on Slurm as a one-task array.
+  if (spec_.engine.engine == "local") {
+    run_one(run, self_);
+  } else {
+    std::vector<PoolRun> one{run};
+    run_runs(one, spec_.out_dir, spec_.engine, 1, true);
+    run = one[0];
+  }
   e.wall_s = run.seconds;
   const int rc = run.rc;
   if (rc != 0)

@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include "app/calibrate_command.hpp"
+#include "app/run_engine.hpp"
 #include "io/case_file.hpp"
 #include "results.hpp"
 
@@ -26,6 +27,7 @@ struct RunSpec {
   std::vector<std::string> overrides;  // --set before the key's: the user's, then the calibration's own
   std::string key;                     // the case key searched
   std::string out_dir;                 // the calibration's folder
+  EngineOptions engine;                // where each run executes (its Slurm files: OUT/slurm)
 };
 
 struct Evaluation {

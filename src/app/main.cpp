@@ -33,16 +33,8 @@ CLI::App* add_run(CLI::App& app, rpfem::RunOptions& run) {
   return run_cmd;
 }
 
-// The options of the commands that run many cases on a worker pool.
-template <class Options>
-void pool_options(CLI::App* cmd, Options& o, const std::string& cases_help, const std::string& quick_help) {
-  cmd->add_option("--cases", o.cases_dir, cases_help)->capture_default_str();
-  cmd->add_option("--out,-o", o.out_dir, "output folder")->capture_default_str();
-  cmd->add_option("--set,-s", o.overrides, "override a case value in every run: key.path=value");
-  cmd->add_option("--jobs,-j", o.jobs, "runs in parallel (default: the machine's cores)");
-  cmd->add_flag("--quick", o.quick, quick_help);
-  cmd->add_flag("--quiet,-q", o.quiet, "no progress output");
-  auto& e = o.engine;
+// Where the runs of a command execute (app/run_engine.hpp).
+void engine_options(CLI::App* cmd, rpfem::EngineOptions& e) {
   cmd->add_option("--engine", e.engine, "where the runs execute: local (this machine's cores) or slurm (job arrays; "
                                         "docs/cluster.md)")
       ->check(CLI::IsMember({"local", "slurm"}))
@@ -54,6 +46,18 @@ void pool_options(CLI::App* cmd, Options& o, const std::string& cases_help, cons
   cmd->add_option("--sbatch-arg", e.slurm.extra, "slurm: one more sbatch argument (repeatable)");
   cmd->add_option("--array-limit", e.slurm.concurrency, "slurm: at most N tasks at once (the array's %N; 0: no limit)")
       ->check(CLI::NonNegativeNumber);
+}
+
+// The options of the commands that run many cases on a worker pool.
+template <class Options>
+void pool_options(CLI::App* cmd, Options& o, const std::string& cases_help, const std::string& quick_help) {
+  cmd->add_option("--cases", o.cases_dir, cases_help)->capture_default_str();
+  cmd->add_option("--out,-o", o.out_dir, "output folder")->capture_default_str();
+  cmd->add_option("--set,-s", o.overrides, "override a case value in every run: key.path=value");
+  cmd->add_option("--jobs,-j", o.jobs, "runs in parallel (default: the machine's cores)");
+  cmd->add_flag("--quick", o.quick, quick_help);
+  cmd->add_flag("--quiet,-q", o.quiet, "no progress output");
+  engine_options(cmd, o.engine);
 }
 
 // `rpfem suite`: every scene and the studies, then the report.
@@ -138,6 +142,7 @@ CLI::App* add_calibrate(CLI::App& app, rpfem::CalibrateOptions& cal) {
                                           "beta_factor, default 0.01)");
   cal_cmd->add_option("--max-evals", cal.max_evals, "NLopt's evaluation limit")->capture_default_str();
   cal_cmd->add_flag("--quiet,-q", cal.quiet, "no progress output");
+  engine_options(cal_cmd, cal.engine);
   return cal_cmd;
 }
 

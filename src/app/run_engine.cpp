@@ -1,5 +1,6 @@
 #include "app/run_engine.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -71,11 +73,13 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   // Finished before (this folder's earlier run of the same command): kept.
   std::vector<std::size_t> todo;
+  std::vector<RunClock> clocks(runs.size());
   int done = 0;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const Summary summary(runs[i].dir);
     if (summary.string("status").value_or("") == "finished") {
       runs[i].rc = 0, runs[i].seconds = summary.number("wall_time_s").value_or(0.0);
+      clocks[i].ended = true;
       ++done;
       continue;
     }
@@ -98,17 +102,22 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
                 slurm_dir.c_str());
   if (todo.empty()) return;
   // The folder seen from a compute node: one short task writes a file
-  // there, the same partition and account as the arrays.
+  // there, the same partition and account as the arrays (once per folder
+  // and process: a calibration submits one run at a time).
+  static std::set<std::string> shared;
   std::string where;
   if (!o.partition.empty()) where += " -p " + shell_quote(o.partition);
   if (!o.account.empty()) where += " -A " + shell_quote(o.account);
-  const std::string probe = slurm_dir + "/probe";
-  fs::remove(probe);
-  const std::string said = capture_shell("srun -N1 -n1 -t 1" + where + " touch " + shell_quote(probe), &rc);
-  if (rc != 0 || !fs::exists(probe))
-    throw InputError("--engine slurm: " + slurm_dir + " is not writable from a compute node (the output folder must "
-                     "be on a filesystem the nodes share): " + said);
-  fs::remove(probe);
+  if (!shared.count(slurm_dir + where)) {
+    const std::string probe = slurm_dir + "/probe";
+    fs::remove(probe);
+    const std::string said = capture_shell("srun -N1 -n1 -t 1" + where + " touch " + shell_quote(probe), &rc);
+    if (rc != 0 || !fs::exists(probe))
+      throw InputError("--engine slurm: " + slurm_dir + " is not writable from a compute node (the output folder "
+                       "must be on a filesystem the nodes share): " + said);
+    fs::remove(probe);
+    shared.insert(slurm_dir + where);
+  }
   // One array per MaxArraySize tasks.
   std::vector<Task> tasks;
   std::vector<std::string> jobs;
@@ -164,10 +173,13 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
       const auto it = state.find(t.job);
       const bool has_code = fs::exists(r.dir + "/exit_code");
       if (it != state.end() && !has_code) {
-        (it->second == "PD" ? pending : running)++;
+        const bool queued = it->second == "PD";
+        (queued ? pending : running)++;
+        if (!queued && !clocks[t.run].running) clocks[t.run].running = true, clocks[t.run].start = Clock::now();
         continue;
       }
       t.ended = true, ++ended, ++done;
+      clocks[t.run].ended = true, clocks[t.run].running = false;
       std::string how;
       if (has_code) {
         std::istringstream c(read_text(r.dir + "/exit_code"));
@@ -197,6 +209,7 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
     if (!quiet && std::chrono::duration<double>(Clock::now() - last_report).count() >= 10) {
       std::printf("  slurm %s: %d pending, %d running, %zu done, %d failed, %.0f s elapsed\n", job_list.c_str(), pending,
                   running, ended, failed, elapsed());
+      print_progress(runs, clocks, std::max(1, running), elapsed());
       last_report = Clock::now();
     }
     std::fflush(stdout);

@@ -7,7 +7,9 @@
 // The Slurm engine writes WORK/slurm/commands.txt (line i: the exact `rpfem
 // run` command of task i) and WORK/slurm/dirs.txt (its folder), submits one
 // `sbatch --array` per MaxArraySize tasks, and polls `squeue` every second
-// (not `sbatch --wait`, which polls every 32 s), printing the pool's lines.
+// (not `sbatch --wait`, which polls every 32 s), printing the pool's lines
+// (each ended run; every 10 s the counts and each running task's step,
+// stroke and iterations from its history.csv).
 // Before the arrays, a one-task `srun` writes a file into WORK/slurm from a
 // compute node: a folder the nodes do not share is bad input, said so.
 // Each task writes its run's exit code to DIR/exit_code; a task that ends

@@ -22,11 +22,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct Slot {
-  bool running = false, ended = false;
-  Clock::time_point start;
-};
-
 // Where a run is, from the last row of its history.csv.
 struct Progress {
   bool started = false;
@@ -59,13 +54,9 @@ Progress read_progress(const std::string& dir) {
   return p;
 }
 
-// One line per run in flight (step k of n, stroke, Newton or Ipopt
-// iterations of the last step, elapsed and estimated remaining time from
-// the stroke done), and the pool's estimate: the runs in flight's
-// remaining time plus the queued runs at the mean time of the finished
-// ones (or of the running ones' projections), over the workers, and no
-// less than the longest run in flight.
-void print_progress(const std::vector<PoolRun>& runs, const std::vector<Slot>& slots, int workers,
+}  // namespace
+
+void print_progress(const std::vector<PoolRun>& runs, const std::vector<RunClock>& slots, int workers,
                     double elapsed) {
   const auto now = Clock::now();
   double left = 0, longest = 0, finished_time = 0, projected = 0;
@@ -107,8 +98,6 @@ void print_progress(const std::vector<PoolRun>& runs, const std::vector<Slot>& s
   std::fflush(stdout);
 }
 
-}  // namespace
-
 std::string run_command(const PoolRun& r, const std::string& self) {
   std::string cmd = shell_quote(self) + " run " + shell_quote(r.case_file) + " --out " + shell_quote(r.dir) + " --quiet";
   if (!r.formulation.empty()) cmd += " --formulation " + shell_quote(r.formulation);
@@ -131,7 +120,7 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
   std::mutex print;  // guards the slots, the runs' results and stdout
-  std::vector<Slot> slots(runs.size());
+  std::vector<RunClock> slots(runs.size());
   const auto t0 = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   auto work = [&] {

@@ -4,6 +4,7 @@
 // 10 s, each running run's step, stroke and iterations (from its
 // history.csv) and the pool's estimated time left.
 #pragma once
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,21 @@ struct PoolRun {
 };
 
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet);
+
+// Where a run of a pool or an array is: queued, running since start, ended.
+struct RunClock {
+  bool running = false, ended = false;
+  std::chrono::steady_clock::time_point start;
+};
+
+// One line per run in flight (step k of n, stroke, Newton or Ipopt
+// iterations of the last step, elapsed and estimated remaining time from
+// the stroke done, read from its history.csv), and the whole's estimate:
+// the runs in flight's remaining time plus the queued runs at the mean
+// time of the finished ones (or of the running ones' projections), over
+// the workers, and no less than the longest run in flight.
+void print_progress(const std::vector<PoolRun>& runs, const std::vector<RunClock>& clocks, int workers,
+                    double elapsed);
 
 // The exact `rpfem run` command line of a run (the executable `self`).
 std::string run_command(const PoolRun& r, const std::string& self);

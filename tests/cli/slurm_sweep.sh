@@ -7,8 +7,9 @@
 # with a run's summary removed, only that run; interrupted, it cancels the
 # array and the same command resumes it. A run that stops (exit 3) and
 # one Slurm kills at its time limit are reported, and the table records
-# them as stopped. The suite on Slurm builds the local suite's study table
-# and its report. Skipped (exit 77) where the cluster cannot be had.
+# them as stopped, and the progress lines follow a running task's step and
+# stroke. The suite on Slurm builds the local suite's study table and its
+# report; a calibration on Slurm makes the local one's evaluations. Skipped (exit 77) where the cluster cannot be had.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d)
@@ -112,5 +113,16 @@ TOML
 "$rpfem" sweep "$tmp/slow.toml" --out "$tmp/slow" --engine slurm --time 0:02 > "$tmp/t.log" 2>&1; rc=$?
 check "a run out of time: its Slurm state reported" '[ $rc -eq 3 ] && grep -q "Slurm TIMEOUT" "$tmp/t.log"'
 check "the table records it stopped" 'grep -q ",0," "$tmp/slow/sweep.csv"'
+check "a running task's step and stroke in the progress lines" 'grep -q "running .*: step [0-9]* of .*, stroke " "$tmp/t.log"'
+# A calibration on Slurm: one one-task array per evaluation, the same
+# evaluations (values and penetrations) as on this machine.
+cal=(calibrate "$src/cases/upsetting_dies_frictionless_axisym.toml" --auto-beta 1e-3 --max-evals 6
+     --set stepping.end_stroke=0.3 --set run.mesh_factor=0.25 --quiet)
+"$rpfem" "${cal[@]}" --out "$tmp/cal_local"; rc_local=$?
+"$rpfem" "${cal[@]}" --out "$tmp/cal_slurm" --engine slurm; rc=$?
+check "calibrate --engine slurm exits as the local one" '[ $rc -eq $rc_local ] && [ -s "$tmp/cal_slurm/evaluations.csv" ]'
+check "calibrate: the same evaluations on Slurm" \
+  '[ "$(cut -d, -f1-3,5 "$tmp/cal_local/evaluations.csv")" = "$(cut -d, -f1-3,5 "$tmp/cal_slurm/evaluations.csv")" ]'
+check "calibrate: its runs went through Slurm" '[ -s "$tmp/cal_slurm/slurm/commands.txt" ]'
 [ $fail -eq 0 ] || { cat "$tmp/s1.log" "$tmp/b.log" "$tmp/t.log"; exit 1; }
 echo "ok: slurm engine"
