@@ -97,10 +97,10 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
     sh << array_script(slurm_dir);
     if (!cmds || !dirs || !sh) throw InputError("--engine slurm: cannot write to " + slurm_dir);
   }
-  if (!quiet)
-    std::printf("%zu runs on Slurm: %zu submitted, %d finished before (%s)\n", runs.size(), todo.size(), done,
-                slurm_dir.c_str());
-  if (todo.empty()) return;
+  if (todo.empty()) {
+    if (!quiet) std::printf("%zu runs on Slurm: 0 submitted, %d finished before (%s)\n", runs.size(), done, slurm_dir.c_str());
+    return;
+  }
   // The folder seen from a compute node: one short task writes a file
   // there, the same partition and account as the arrays (once per folder
   // and process: a calibration submits one run at a time).
@@ -114,10 +114,14 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
     const std::string said = capture_shell("srun -N1 -n1 -t 1" + where + " touch " + shell_quote(probe), &rc);
     if (rc != 0 || !fs::exists(probe))
       throw InputError("--engine slurm: " + slurm_dir + " is not writable from a compute node (the output folder "
-                       "must be on a filesystem the nodes share): " + said);
+                       "must be on a filesystem the nodes share): " +
+                       (said.empty() ? "a one-task srun ran but its file did not appear here" : said));
     fs::remove(probe);
     shared.insert(slurm_dir + where);
   }
+  if (!quiet)
+    std::printf("%zu runs on Slurm: %zu submitted, %d finished before (%s)\n", runs.size(), todo.size(), done,
+                slurm_dir.c_str());
   // One array per MaxArraySize tasks.
   std::vector<Task> tasks;
   std::vector<std::string> jobs;

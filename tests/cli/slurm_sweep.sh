@@ -85,6 +85,13 @@ for e in local slurm; do
 done
 check "the suite's study table the same on Slurm" \
   'same_table "$tmp/suite_local/studies/step_convergence_test2/sweep.csv" "$tmp/suite_slurm/studies/step_convergence_test2/sweep.csv"'
+# A folder the compute nodes do not see: the probe task succeeds, but its
+# file does not appear here (an srun that runs elsewhere). Bad input,
+# before anything is submitted.
+mkdir -p "$tmp/elsewhere"; printf '#!/bin/sh\nexit 0\n' > "$tmp/elsewhere/srun"; chmod +x "$tmp/elsewhere/srun"
+PATH="$tmp/elsewhere:$PATH" "$rpfem" sweep "$tmp/study.toml" --out "$tmp/unshared" --engine slurm > "$tmp/u.log" 2>&1; rc=$?
+check "an unshared folder: exit 2, said so, nothing submitted" \
+  '[ $rc -eq 2 ] && grep -q "not writable from a compute node" "$tmp/u.log" && ! grep -q "submitted job array" "$tmp/u.log"'
 # A run that stops (a step limit) and one killed at its time limit.
 cat > "$tmp/bad.toml" <<TOML
 [study]
