@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
+
 namespace rpfem {
 
 DirectEnforcement::DirectEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
@@ -117,6 +119,26 @@ StepCheck DirectEnforcement::settle(const StepView& v, const std::vector<Vec2>& 
     now_[i].normal = F[rows[i].kin.nodes[0]].dot(rows[i].kin.n);
     scale = std::max(scale, std::abs(now_[i].normal));
   }
+  // A node on two dies (a container's corner: wall and bottom) has one
+  // nodal reaction for both rows: it is split into each die's normal
+  // force, F = sum N_r n_r (least squares; two independent normals span
+  // the plane). Before, each row took the whole reaction and each die's
+  // load counted the other's: the backward extrusion's container wall
+  // carried the corner node's bottom reaction, 0.7 kN of vertical load
+  // where the wall's friction alone is 4.8 kN.
+  std::map<Index, std::vector<std::size_t>> at_node;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (now_[i].in_contact) at_node[rows[i].kin.nodes[0]].push_back(i);
+  std::vector<char> shared(rows.size(), 0);
+  for (const auto& [node, ids] : at_node) {
+    if (ids.size() < 2) continue;
+    Eigen::MatrixXd A(2, ids.size());
+    for (std::size_t c = 0; c < ids.size(); ++c) A.col(c) = rows[ids[c]].kin.n;
+    const Eigen::VectorXd N = A.completeOrthogonalDecomposition().solve(Eigen::Vector2d(F[node]));
+    for (std::size_t c = 0; c < ids.size(); ++c) now_[ids[c]].normal = N(c), shared[ids[c]] = 1;
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (shared[i]) scale = std::max(scale, std::abs(now_[i].normal));
   bool released = false;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     if (!now_[i].in_contact) continue;
@@ -129,10 +151,12 @@ StepCheck DirectEnforcement::settle(const StepView& v, const std::vector<Vec2>& 
                            scene_.dies[disc_.interfaces()[rows[i].iface].die].name);
     } else {
       // The die's force on the body: the whole nodal reaction (F includes
-      // the friction potential's gradient, -friction) plus the friction.
+      // the friction potential's gradient, -friction) plus the friction;
+      // at a node shared with another die, its own share.
       const Vec2 t(-rows[i].kin.n(1), rows[i].kin.n(0));
+      const Vec2 reaction = shared[i] ? Vec2(now_[i].normal * rows[i].kin.n) : Vec2(F[rows[i].kin.nodes[0]]);
       results_[i].normal = now_[i].normal;
-      results_[i].slave_force = F[rows[i].kin.nodes[0]] + results_[i].friction * t;
+      results_[i].slave_force = reaction + results_[i].friction * t;
     }
   }
   out.resolve = released;

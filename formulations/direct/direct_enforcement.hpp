@@ -38,6 +38,7 @@ class DirectEnforcement final : public ContactEnforcement {
   void add_terms(const StepView& v, const std::vector<Vec2>& vel, TermSink& sink) const override;
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
   const std::vector<RowResult>& results() const override { return results_; }
+  bool places_on_surfaces() const override { return true; }
   double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
   void columns(std::vector<NamedValue>& out) const override;
 

@@ -41,7 +41,7 @@ class ContactModel final : public ContactFormulation {
   StepSolver* solver() override { return enf_->solver(); }
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
   std::optional<double> limit_dt(const StepView& v, const std::vector<Vec2>& vel) const override;
-  double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override { return enf_->place_on_surfaces(v, x); }
+  double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
   void end_step(const StepView& v, const std::vector<Vec2>& vel) override { enf_->end_step(v, vel); }
   ContactRecord record(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) const override;
 
@@ -68,6 +68,8 @@ class ContactModel final : public ContactFormulation {
   std::vector<int> friction_dies_;  // dies with friction: their neutral point is reported
   bool any_bodies_ = false;
   double sym_tol_ = 0;
+  double max_drift_ = 0;       // mm, the last step's largest drift corrected (place_on_surfaces)
+  std::vector<Vec2> solved_;   // the last settled solve's velocities
 };
 
 }  // namespace rpfem

@@ -29,6 +29,10 @@ class ContactEnforcement {
   // contact state changed so that the step is solved again.
   virtual StepCheck settle(const StepView&, const std::vector<Vec2>& v, const std::vector<Vec2>& F) = 0;
   virtual const std::vector<RowResult>& results() const = 0;
+  // Whether it places its contact nodes on the dies itself after each step
+  // (place_on_surfaces); else ContactModel corrects the drift of nodes
+  // pressing on curved dies.
+  virtual bool places_on_surfaces() const { return false; }
   virtual double place_on_surfaces(const StepView&, std::vector<Vec2>& x) { return 0; }
   virtual void end_step(const StepView&, const std::vector<Vec2>& v) {}
   // Its own per-step scalars: names and values in a fixed order.
