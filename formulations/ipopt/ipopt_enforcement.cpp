@@ -58,18 +58,19 @@ void IpoptEnforcement::begin_step(const StepView& v, const std::vector<ContactRo
     const auto it = last_force_.find({rows[i].iface, rows[i].key});
     if (it != last_force_.end()) force[i] = it->second;
   }
+  on_.assign(rows.size(), 0);
+  flipped_.assign(rows.size(), 0);
+  for (std::size_t i = 0; i < rows.size(); ++i) on_[i] = force[i] > 0;
   set_bounds(v, force);
 }
 
 void IpoptEnforcement::set_bounds(const StepView& v, const std::vector<double>& force) {
   const auto& rows = *rows_;
-  std::vector<char> on(rows.size());
-  for (std::size_t i = 0; i < rows.size(); ++i) on[i] = force[i] > 0;
   std::vector<RowArea> area;
-  disc_.areas(v, rows, on, area);
+  disc_.areas(v, rows, on_, area);
   bound_.assign(rows.size(), 0.0);
   for (std::size_t i = 0; i < rows.size(); ++i)
-    bound_[i] = friction_bound(disc_.interfaces()[rows[i].iface].friction, on[i], force[i], area[i].kw);
+    bound_[i] = friction_bound(disc_.interfaces()[rows[i].iface].friction, on_[i], force[i], area[i].kw);
 }
 
 void IpoptEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
@@ -97,7 +98,8 @@ StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& v
     r.in_contact = pressing(i);
     r.slip = slip_rate(rows[i].kin, vel);
     if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
-    if (r.in_contact) force[i] = r.normal;
+    if (r.in_contact != static_cast<bool>(on_[i]) && !flipped_[i]) on_[i] = r.in_contact, flipped_[i] = 1;
+    if (on_[i]) force[i] = std::max(r.normal, 0.0);
   }
   set_bounds(v, force);
   double largest = 0, change = 0;

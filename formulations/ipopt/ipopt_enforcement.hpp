@@ -42,7 +42,8 @@ class IpoptEnforcement final : public ContactEnforcement {
   // must not count as contact (a ring's free faces got die friction).
   bool pressing(std::size_t i) const;
   static constexpr double kPressGap = 1e-6;
-  // k w and the friction bound of every row from the rows' normal forces.
+  // k w and the friction bound of every row from which rows are in contact
+  // (on_) and the rows' normal forces.
   void set_bounds(const StepView& v, const std::vector<double>& force);
   double smoothing_speed(std::size_t i) const;
 
@@ -52,6 +53,13 @@ class IpoptEnforcement final : public ContactEnforcement {
   std::vector<BoundRow> bound_rows_;
   std::vector<int> bound_of_;  // per row: its BoundRow, -1 for a free row
   std::vector<double> bound_;  // N, per row
+  // Per row: in contact for the friction bounds, and whether that changed
+  // in this step already. A row's state changes at most once a step, as
+  // the penalty's: a node whose friction factor lifts it off the die and
+  // whose release lets it press again otherwise alternates until the
+  // step's passes run out (the backward extrusion at 3.5 mm, "contact
+  // state did not settle in 50 passes" at every halving).
+  std::vector<char> on_, flipped_;
   std::vector<RowResult> results_;
   std::map<std::pair<int, Index>, double> last_force_;  // N: the last accepted step's pressing forces
   double speed_scale_ = 0, friction_tol_ = 0, friction_change_ = 0;

@@ -46,6 +46,7 @@ RunObserver::RunObserver(const Scene& scene, const std::string& dir, toml::table
   }
   summary_.insert_or_assign("monitors", mons);
   writer_ = std::make_unique<ResultWriter>(dir_, scene_.mesh, to_json(summary_));
+  mesh_nodes_ = scene_.mesh.num_nodes(), mesh_elements_ = scene_.mesh.num_elements();
   const auto& s = scene_.stepping;
   expected_steps_ = s.planned_steps();
 }
@@ -170,6 +171,7 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
   }
   writer_->set_mesh(m, last_step_ + 1);
   remap_monitors(monitors_, m, re.kept);
+  mesh_nodes_ = m.num_nodes(), mesh_elements_ = m.num_elements();
   char line[512];
   std::snprintf(line, sizeof line,
                 "remesh (%s): %lld elements, %lld nodes; volume change %.3g (%.3g taken out of the dies' corners "
@@ -208,6 +210,10 @@ void RunObserver::on_resumed(const StepRecord& r) {
 
 void RunObserver::on_retry(int step, double dt, const std::string& why) {
   if (!quiet_) std::printf("  step %5d  retry with dt %.3g s: %s\n", step, 0.5 * dt, why.c_str());
+  // The log keeps every failed attempt's reason (a run slowed by halvings
+  // says why).
+  std::ofstream(events_path_, std::ios::app) << step << "," << last_.time << ",retry with dt " << 0.5 * dt
+                                             << " s: " << why << "\n";
 }
 
 void RunObserver::write_summary() {
@@ -229,6 +235,7 @@ std::string RunObserver::finish(const RunOutcome& out) {
   summary_.insert_or_assign("total_newton_iterations", out.total_newton_iterations);
   summary_.insert_or_assign("total_step_cuts", out.total_cuts);
   summary_.insert_or_assign("final_stroke_mm", last_.stroke);
+  summary_.insert_or_assign("final_mesh", toml::table{{"nodes", mesh_nodes_}, {"elements", mesh_elements_}});
   toml::table loads;
   for (std::size_t i = 0; i < load_names_.size() && i < last_.loads.size(); ++i)
     loads.insert(load_names_[i], pair(last_.loads[i]));

@@ -60,6 +60,7 @@ class RunObserver final : public StepObserver {
   StepRecord last_, before_last_;
   toml::array remeshes_;
   bool jump_pending_ = false;
+  Index mesh_nodes_ = 0, mesh_elements_ = 0;  // the current mesh's (summary's final_mesh)
 };
 
 }  // namespace rpfem

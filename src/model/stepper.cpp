@@ -557,6 +557,16 @@ RunOutcome Runner::run(const RunState* from) {
   last_dt_ = from && from->dt > 0 ? from->dt : derived_.dt_nominal;
   const int first = segment_first_step_;
   Solution sol = solve(st, guess, first, last_dt_, nullptr, !midpoint);
+  // A resumed solve from the velocities carried over from the old mesh
+  // may fail where one from rest does not (they break the new mesh's
+  // linearized contact constraints: Ipopt's restoration phase failed on the
+  // backward extrusion at 6 mm); it is tried again from rest.
+  if (from && !sol.failure.empty() && from->v.size() == guess.size()) {
+    const std::string why = sol.failure;
+    sol = solve(st, std::vector<Vec2>(st.x.size(), Vec2::Zero()), first, last_dt_, nullptr, !midpoint);
+    sol.events.insert(sol.events.begin(), "resumed solve from the carried-over velocities failed (" + why +
+                                              "): solved from rest");
+  }
   if (!sol.failure.empty()) {
     out_.reason = "step " + std::to_string(first) + (from ? " (resumed)" : " (initial configuration)") + ": " +
                   sol.failure + conditioning_note(sol.rcond, sol.stalled);

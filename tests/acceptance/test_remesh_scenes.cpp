@@ -52,6 +52,11 @@ History check_remeshed_run(const std::string& dir, double end_stroke, bool jumps
   EXPECT_EQ(jump.size(), volume.size()) << dir;
   EXPECT_LT(largest_abs(volume), 1e-6) << dir;
   if (jumps_below_1_percent) EXPECT_LT(largest_abs(jump), 1e-2) << dir;
+  // summary.json's keys in order: final_mesh, mesh, the remeshes: the
+  // final mesh is the last remesh's.
+  const auto elements = remesh_values(dir, "elements");
+  EXPECT_GE(elements.size(), 3u) << dir;
+  if (!elements.empty()) EXPECT_EQ(elements.front(), elements.back()) << dir << ": final_mesh";
   std::printf("[measured] %s: %zu remeshes, largest volume change %.2e, largest load jump %.4f, least scaled "
               "Jacobian %.3f\n",
               dir.c_str(), volume.size(), largest_abs(volume), largest_abs(jump),
