@@ -1,6 +1,7 @@
 #include "direct/direct_enforcement.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -27,6 +28,8 @@ DirectEnforcement::DirectEnforcement(const Scene& scene, CaseSection settings, c
   const double size = scene.mesh.size();
   touch_tol_ = settings.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
   release_tol_ = settings.real("release_tolerance", 1e-9, Range::nonnegative(), "relative to the largest contact force");
+  coulomb_in_newton_ = settings.choice<bool>("coulomb_update", std::string("newton"),
+                                             {{"newton", true}, {"passes", false}});
   coulomb_tol_ = settings.real("coulomb_tolerance", 1e-4, Range::positive(),
                                "largest change of a Coulomb friction bound between passes, relative");
 }
@@ -67,6 +70,35 @@ void DirectEnforcement::begin_step(const StepView& v, const std::vector<ContactR
   results_.assign(rows.size(), {});
   coulomb_relax_ = 1;
   coulomb_change_ = INFINITY;
+  started_ = false;
+  fixed_point_ = false;
+  merit_bound_.clear();
+  tangent_bound_ = bound_;
+  set_live();
+}
+
+void DirectEnforcement::set_live() {
+  const auto& rows = *rows_;
+  std::map<Index, int> on_node;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (now_[i].in_contact) ++on_node[rows[i].kin.nodes[0]];
+  live_.assign(rows.size(), 0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    live_[i] = coulomb_in_newton_ && !fixed_point_ && now_[i].in_contact && law(i).kind == FrictionLaw::Kind::Coulomb && on_node[rows[i].kin.nodes[0]] == 1;
+}
+
+bool DirectEnforcement::fall_back() {
+  if (!coulomb_ || !coulomb_in_newton_ || fixed_point_) return false;
+  fixed_point_ = true;
+  started_ = false;
+  merit_bound_.clear();
+  set_live();
+  return true;
+}
+
+void DirectEnforcement::force_nodes(std::vector<Index>& out) const {
+  for (std::size_t i = 0; i < live_.size(); ++i)
+    if (live_[i]) out.push_back((*rows_)[i].kin.nodes[0]);
 }
 
 double DirectEnforcement::update_bounds(double relax) {
@@ -92,18 +124,46 @@ void DirectEnforcement::constraints(const StepView&, std::vector<NodeConstraint>
 
 void DirectEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
   for (std::size_t i = 0; i < rows_->size(); ++i) {
-    if (!now_[i].in_contact || !(bound_[i] > 0)) continue;
+    if (!now_[i].in_contact) continue;
     const PairKinematics& k = (*rows_)[i].kin;
+    // Coulomb on a node alone on its die: B = min(mu N, k w) at this
+    // iterate's reaction N = n . F_s (Kobayashi, Oh, Altan 1989, eq. 8.18
+    // with the normal traction from the nodal reaction). Not at a solve's
+    // start (its first residual and tangent): the start iterate breaks the
+    // constraints of the nodes that touched, and its reactions are no
+    // equilibrium's (50 times the converged ones on the upsetting's face,
+    // every bound at the cap k w, and Newton needed 8 or 9 iterations a
+    // solve); the last solve's bound serves there.
+    const bool live = live_[i] && started_;
+    const double N = live ? k.n.dot(sink.element_force(k.nodes[0])) : 0.0;
+    const double B = live ? friction_bound(law(i), true, N, kw_[i]) : bound_[i];
+    if (sink.needs_hessian()) tangent_bound_[i] = B;
+    const double merit = merit_bound_.empty() ? -1.0 : merit_bound_[i];
+    if (!(B > 0) && !(merit > 0)) continue;
     RowLaw l;
     l.normal = false;
-    l.fixed_bound = bound_[i];
+    l.fixed_bound = B;
+    l.merit_bound = merit;
     l.a = smoothing_speed(i);
-    add_row_term(sink, k, row_term(k, l, vel));
+    const RowTerm term = row_term(k, l, vel);
+    add_row_term(sink, k, term);
+    // Below the cap, d(friction force)/dv gains (mu / B) g (n^T K_s): the
+    // friction gradient g scaled to one newton of N, times the
+    // reaction's derivative.
+    if (live && sink.needs_hessian() && law(i).mu * N < kw_[i]) {
+      std::array<double, 2 * kMaxRowNodes> g;
+      expand(k, term, g.data(), nullptr);
+      for (int a = 0; a < 2 * k.k; ++a) g[a] *= law(i).mu / B;
+      sink.add_force_coupling(k.nodes[0], k.n, k.nodes.data(), k.k, g.data());
+    }
   }
+  if (sink.needs_hessian()) started_ = true;
 }
 
 StepCheck DirectEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) {
   StepCheck out;
+  started_ = false;  // the next solve starts anew
+  merit_bound_.clear();
   out.events.swap(touches_);
   const auto& rows = *rows_;
   // F is the full nodal force; its normal part at a contact node is the
@@ -115,8 +175,10 @@ StepCheck DirectEnforcement::settle(const StepView& v, const std::vector<Vec2>& 
     if (!now_[i].in_contact) continue;
     r.in_contact = true;
     r.slip = slip_rate(rows[i].kin, vel);
-    if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
     now_[i].normal = F[rows[i].kin.nodes[0]].dot(rows[i].kin.n);
+    // A live Coulomb row's bound is the solve's own (at its reaction).
+    if (live_[i]) bound_[i] = friction_bound(law(i), true, now_[i].normal, kw_[i]);
+    if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
     scale = std::max(scale, std::abs(now_[i].normal));
   }
   // A node on two dies (a container's corner: wall and bottom) has one
@@ -166,6 +228,7 @@ StepCheck DirectEnforcement::settle(const StepView& v, const std::vector<Vec2>& 
     std::vector<RowArea> area;
     disc_.areas(v, rows, on, area);
     for (std::size_t i = 0; i < rows.size(); ++i) kw_[i] = area[i].kw;
+    set_live();
   }
   // Coulomb: B = min(mu N, k w) with the new normal forces; solve again
   // until the bounds settle (a fixed point on the normal forces). A pass

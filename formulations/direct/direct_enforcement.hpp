@@ -12,10 +12,15 @@
 //   the die surface (a node sliding along an arc otherwise drifts off it by
 //   (v dt)^2 / 2R per step).
 //   Friction: the arctan law's potential B psi(gamma_T) per contact row
-//   (contact/row_terms.hpp) with B fixed in a solve: the friction factor
-//   m k w, or Coulomb's min(mu N, k w) with N the row's normal reaction,
-//   by a fixed point over the step's solves until B stops changing
-//   (relaxed when it oscillates).
+//   (contact/row_terms.hpp): the friction factor's B = m k w fixed in a
+//   solve; Coulomb's B = min(mu N, k w) with N the row's normal reaction,
+//   N = n . F_s, F_s the elements' force at the node (the reaction the
+//   elimination holds), evaluated at every Newton iterate and linearized
+//   in the tangent (d B / d v = mu n^T K_s, K_s the elements' Hessian rows
+//   of the node: unsymmetric, UMFPACK), so the bound converges with the
+//   velocities. A node on two dies, whose reaction is split between them,
+//   keeps the bound of the last solve, by a fixed point over the step's
+//   solves until B stops changing (relaxed when it oscillates).
 // Rows against dies only: contact between bodies needs another enforcement.
 #pragma once
 #include <map>
@@ -38,6 +43,19 @@ class DirectEnforcement final : public ContactEnforcement {
   void add_terms(const StepView& v, const std::vector<Vec2>& vel, TermSink& sink) const override;
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
   const std::vector<RowResult>& results() const override { return results_; }
+  // Coulomb: its bound follows the reaction within Newton (unsymmetric).
+  // Live Coulomb bounds: not a potential; the line search's merit is the
+  // energy with each bound frozen at the iterate (anchor_merit).
+  TangentKind tangent() const override {
+    return coulomb_ && coulomb_in_newton_ && !fixed_point_ ? TangentKind{false, false, true} : TangentKind{};
+  }
+  // A solve whose Newton failed with live bounds is solved again with the
+  // bounds fixed within it (the fixed point over its passes).
+  bool fall_back() override;
+  void anchor_merit(const StepView&, const std::vector<Vec2>&) override {
+    if (coulomb_ && coulomb_in_newton_) merit_bound_ = tangent_bound_;
+  }
+  void force_nodes(std::vector<Index>& out) const override;
   bool places_on_surfaces() const override { return true; }
   double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
   void columns(std::vector<NamedValue>& out) const override;
@@ -60,10 +78,24 @@ class DirectEnforcement final : public ContactEnforcement {
   std::map<std::pair<int, Index>, State> state_;  // by row identity
   std::vector<State> now_;       // per row
   std::vector<double> kw_, bound_;
+  // Per row: a Coulomb row in contact, alone on its node, whose bound
+  // follows its reaction within Newton (set_live).
+  std::vector<char> live_;
+  void set_live();
+  // Whether this solve assembled a tangent yet (add_terms: a live bound
+  // from then on).
+  mutable bool started_ = false;
+  // The bounds of the last tangent's iterate (Newton anchors its merit at
+  // the iterate whose tangent it just solved with), and the anchored ones
+  // (-1: none).
+  mutable std::vector<double> tangent_bound_;
+  std::vector<double> merit_bound_;
   std::vector<RowResult> results_;
   std::vector<std::string> touches_;
   SmoothingContinuation smoothing_;
   bool coulomb_ = false;
+  bool coulomb_in_newton_ = true;  // coulomb_update: "newton" (live bounds) or "passes" (the fixed point only)
+  bool fixed_point_ = false;       // this solve fell back to the fixed point
   double speed_scale_ = 0;
   double touch_tol_ = 0, release_tol_ = 0, coulomb_tol_ = 0;
   double coulomb_relax_ = 1, coulomb_change_ = 0;

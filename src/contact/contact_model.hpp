@@ -37,6 +37,8 @@ class ContactModel final : public ContactFormulation {
     enf_->add_terms(v, vel, sink);
   }
   TangentKind tangent() const override { return enf_->tangent(); }
+  void force_nodes(const StepView&, std::vector<Index>& out) const override { enf_->force_nodes(out); }
+  bool fall_back() override { return enf_->fall_back(); }
   void anchor_merit(const StepView& v, const std::vector<Vec2>& vel) override { enf_->anchor_merit(v, vel); }
   StepSolver* solver() override { return enf_->solver(); }
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;

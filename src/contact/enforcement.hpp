@@ -23,6 +23,11 @@ class ContactEnforcement {
   virtual void constraints(const StepView&, std::vector<NodeConstraint>&) const {}
   virtual void add_terms(const StepView&, const std::vector<Vec2>& v, TermSink&) const = 0;
   virtual TangentKind tangent() const { return {}; }
+  // The nodes whose elements' force its terms read (TermSink::element_force).
+  virtual void force_nodes(std::vector<Index>&) const {}
+  // After a failed solve: whether it switched to a more robust scheme for
+  // this solve (ContactFormulation::fall_back).
+  virtual bool fall_back() { return false; }
   virtual void anchor_merit(const StepView&, const std::vector<Vec2>& v) {}
   virtual StepSolver* solver() { return nullptr; }
   // After a converged solve: the rows' results (results()), and whether the

@@ -54,6 +54,17 @@ class TermSink {
   // False when the sink uses energy or gradient only: a term may then skip
   // its Hessian (hess is not read).
   virtual bool needs_hessian() const { return true; }
+  // The elements' nodal force at `node` (internal minus external, before
+  // any contact term): at a node held by constraints, the reaction they
+  // carry. Known for the nodes the treatment named in force_nodes() (zero
+  // for the others, and in an energy sink). A term may depend on it:
+  // Coulomb's bound mu N on a node held on a die (N = n . F).
+  virtual Vec2 element_force(Index node) const { return Vec2::Zero(); }
+  // Tangent sinks: adds the outer product of coef (2k values: the x, y
+  // components at nodes[0..k)) with the derivative of dir . element_force
+  // (node) by all velocities (dir^T times the elements' Hessian rows of
+  // `node`): the linearization of a term's dependence on that force.
+  virtual void add_force_coupling(Index node, const Vec2& dir, const Index* nodes, int k, const double* coef) {}
 };
 
 struct TangentKind {
@@ -132,6 +143,12 @@ class ContactFormulation {
   virtual void constraints(const StepView&, std::vector<NodeConstraint>&) const {}
   // Node groups coupled by contact terms (the sparsity pattern).
   virtual void couplings(const StepView&, std::vector<std::vector<Index>>&) const {}
+  // The nodes whose elements' force its terms read (TermSink::element_force).
+  virtual void force_nodes(const StepView&, std::vector<Index>&) const {}
+  // After a solve that failed: whether the treatment switched to a more
+  // robust scheme for this solve (the stepper then solves it once more
+  // from the same start, before it halves the step).
+  virtual bool fall_back() { return false; }
   // Contact terms of the functional at nodal velocities v.
   virtual void add_terms(const StepView&, const std::vector<Vec2>& v, TermSink&) const {}
   virtual TangentKind tangent() const { return {}; }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include "fem/edge_weights.hpp"
 #include "model/scene.hpp"
@@ -16,18 +17,52 @@ struct EnergySink : TermSink {
   void add(const Index*, int, double e, const double*, const double*) override { total += e; }
   bool needs_hessian() const override { return false; }
 };
+// The elements' forces at the contact's force nodes (TermSink::
+// element_force), and for a tangent their Hessian rows: per node, its
+// 2 x 2 blocks by column node.
+struct NodeForces {
+  std::map<Index, Vec2> force;
+  std::map<Index, std::map<Index, Eigen::Matrix2d>> rows;
+  Vec2 at(Index node) const {
+    const auto it = force.find(node);
+    return it == force.end() ? Vec2::Zero() : it->second;
+  }
+};
 struct ForceSink : TermSink {
   std::vector<Vec2>& F;
-  explicit ForceSink(std::vector<Vec2>& f) : F(f) {}
+  const NodeForces* nf;
+  ForceSink(std::vector<Vec2>& f, const NodeForces* n) : F(f), nf(n) {}
   void add(const Index* nodes, int k, double, const double* g, const double*) override {
     for (int a = 0; a < k; ++a) F[nodes[a]] += Vec2(g[2 * a], g[2 * a + 1]);
   }
   bool needs_hessian() const override { return false; }
+  Vec2 element_force(Index node) const override { return nf ? nf->at(node) : Vec2::Zero(); }
 };
 struct MatrixSink : TermSink {
   SparseAssembler& A;
-  explicit MatrixSink(SparseAssembler& a) : A(a) {}
+  const NodeForces& nf;
+  MatrixSink(SparseAssembler& a, const NodeForces& n) : A(a), nf(n) {}
   void add(const Index* nodes, int k, double, const double*, const double* H) override { A.add(nodes, k, H); }
+  Vec2 element_force(Index node) const override { return nf.at(node); }
+  void add_force_coupling(Index node, const Vec2& dir, const Index* nodes, int k, const double* coef) override {
+    const auto it = nf.rows.find(node);
+    if (it == nf.rows.end()) return;
+    for (const auto& [col, K] : it->second) {
+      const Eigen::RowVector2d r = dir.transpose() * K;  // d(dir . F_node)/dv_col
+      for (int a = 0; a < k; ++a) {
+        const Eigen::Matrix2d block = Vec2(coef[2 * a], coef[2 * a + 1]) * r;
+        if (nodes[a] == col) {
+          A.add(&col, 1, block.data());
+          continue;
+        }
+        // As a two-node block (rows nodes[a], columns col; column-major).
+        const Index pair[2] = {nodes[a], col};
+        Eigen::Matrix4d B = Eigen::Matrix4d::Zero();
+        B.block<2, 2>(0, 2) = block;
+        A.add(pair, 2, B.data());
+      }
+    }
+  }
 };
 
 }  // namespace
@@ -92,7 +127,11 @@ double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& 
     scale2 += t.grad.squaredNorm();
   }
   for (std::size_t i = 0; i < v.size(); ++i) F[i] -= fext_[i];
-  ForceSink sink(F);
+  std::vector<Index> nodes;
+  contact_.force_nodes(view_, nodes);
+  NodeForces nf;
+  for (Index n : nodes) nf.force[n] = F[n];
+  ForceSink sink(F, nodes.empty() ? nullptr : &nf);
   contact_.add_terms(view_, v, sink);
   return std::max(std::sqrt(scale2), force_floor_);
 }
@@ -115,11 +154,34 @@ const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
   ws_.assembler.set_zero();
   ElementTerms t;
   const Tangent kind = consistent ? Tangent::Consistent : Tangent::Secant;
+  // The contact's force nodes: their elements' force and, for a
+  // consistent tangent, their Hessian rows, gathered in the same loop. A
+  // secant matrix is no derivative (K_s v = F): a secant iteration leaves
+  // the force's dependence out (a fixed-point step on it).
+  std::vector<Index> nodes;
+  contact_.force_nodes(view_, nodes);
+  NodeForces nf;
+  for (Index n : nodes) nf.force[n] = -fext_[n];
+  if (consistent)
+    for (Index n : nodes) nf.rows[n];
   for (Index el = 0; el < view_.mesh->num_elements(); ++el) {
     rigid_plastic_terms(element_input(el, v), kind, t);
-    ws_.assembler.add(view_.mesh->quads[el].data(), 4, t.hess.data());
+    const auto& q = view_.mesh->quads[el];
+    ws_.assembler.add(q.data(), 4, t.hess.data());
+    if (nodes.empty()) continue;
+    for (int a = 0; a < 4; ++a) {
+      const auto f = nf.force.find(q[a]);
+      if (f == nf.force.end()) continue;
+      f->second += t.grad.segment<2>(2 * a);
+      const auto it = nf.rows.find(q[a]);
+      if (it == nf.rows.end()) continue;
+      for (int b = 0; b < 4; ++b) {
+        auto [blk, fresh] = it->second.try_emplace(q[b], Eigen::Matrix2d::Zero());
+        blk->second += t.hess.block<2, 2>(2 * a, 2 * b);
+      }
+    }
   }
-  MatrixSink sink(ws_.assembler);
+  MatrixSink sink(ws_.assembler, nf);
   contact_.add_terms(view_, v, sink);
   ws_.assembly_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return ws_.assembler.matrix();

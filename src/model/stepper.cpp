@@ -207,6 +207,13 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     sol.iterations += r.iterations;
     sol.residual = r.residual;
     sol.stalled = r.stalled;
+    if (!r.converged && contact_.fall_back()) {
+      // Once more from the pass's start, the treatment's robust scheme.
+      sol.events.push_back("solved again by the contact treatment's fallback after " + r.reason);
+      ws_.linear.reset_rcond();  // the failed attempt's matrices are not the step's
+      warm = false;
+      continue;
+    }
     if (!r.converged) return fail(r.reason);
     problem.dofs().expand(u, v);
     problem.nodal_forces(v, sol.F);

@@ -119,8 +119,8 @@ TEST(FrictionUpsetting, StickingAgainstSlabMethodWithBarrelling) {
   expect_no_penetration(h, 20);
 }
 
-// Coulomb friction: the fixed point on the normal forces settles every step,
-// and mu = 0.1 lies between m = 0.1 and m = 1 in load.
+// Coulomb friction: the bounds settle every step, and mu = 0.1 lies above
+// m = 0.1 in load.
 TEST(FrictionUpsetting, CoulombFixedPointSettles) {
   const std::string dir = run_case("upsetting_friction", "--variant mu0.1");
   const History h = read_history(dir + "/history.csv");
@@ -132,6 +132,31 @@ TEST(FrictionUpsetting, CoulombFixedPointSettles) {
   std::printf("[measured] load at 50 %%: mu = 0.1 %.1f kN, m = 0.1 %.1f kN\n", load / 1e3, load_low / 1e3);
   EXPECT_GT(load, load_low);
   expect_no_penetration(h, 20);
+}
+
+// Coulomb under direct, its bounds following the reactions within Newton
+// (formulations.direct.coulomb_update = newton, the default): one contact
+// pass a solve, at most 8 Newton iterations a step on average (the fixed
+// point took about 19), and the load of the fixed point converged to 1e-10
+// (coulomb_update = passes) within 1e-6 at every step.
+TEST(FrictionUpsetting, CoulombBoundsConvergeWithinNewton) {
+  const History h = read_history(run_case("upsetting_friction", "--variant mu0.1") + "/history.csv");
+  const History f = read_history(run_case("upsetting_friction",
+                                          "--variant mu0.1 --set formulations.direct.coulomb_update=passes "
+                                          "--set formulations.direct.coulomb_tolerance=1e-10",
+                                          0, "passes") +
+                                 "/history.csv");
+  ASSERT_EQ(h.rows(), f.rows());
+  double iterations = 0, iterations_f = 0, worst = 0;
+  for (std::size_t i = 0; i < h.rows(); ++i) {
+    iterations += h.at("newton_iterations")[i], iterations_f += f.at("newton_iterations")[i];
+    if (i > 0) worst = std::max(worst, std::abs(h.at("top_die.Fy")[i] / f.at("top_die.Fy")[i] - 1));
+  }
+  EXPECT_LE(iterations / h.rows(), 8.0);
+  EXPECT_LT(worst, 1e-6);
+  std::printf("[measured] Coulomb mu = 0.1 under direct: %.2f Newton iterations a step (fixed point to 1e-10: "
+              "%.2f); load against it %.2e at worst\n",
+              iterations / h.rows(), iterations_f / f.rows(), worst);
 }
 
 // Items 4 and 6: nodes under the punch's rounded edge slide around the arc

@@ -26,6 +26,7 @@
 #include "factory.hpp"
 #include "io/case_file.hpp"
 #include "io/scene_reader.hpp"
+#include "model/step_problem.hpp"
 #include "model/stepper.hpp"
 #include "temp_file.hpp"
 
@@ -212,12 +213,16 @@ struct ContactRun {
   }
 };
 
-// Collects the terms' energy, gradient and (dense) Hessian.
+// Collects the terms' energy, gradient and (dense) Hessian; the elements'
+// nodal forces it hands out (TermSink::element_force) are fixed ones.
 struct Dense : TermSink {
   double energy = 0;
   Vec grad;
   Mat hess;
-  explicit Dense(Index n) : grad(Vec::Zero(2 * n)), hess(Mat::Zero(2 * n, 2 * n)) {}
+  const std::vector<Vec2>* forces = nullptr;
+  explicit Dense(Index n, const std::vector<Vec2>* f = nullptr)
+      : grad(Vec::Zero(2 * n)), hess(Mat::Zero(2 * n, 2 * n)), forces(f) {}
+  Vec2 element_force(Index node) const override { return forces ? (*forces)[node] : Vec2::Zero(); }
   void add(const Index* nodes, int k, double e, const double* g, const double* H) override {
     energy += e;
     for (int a = 0; a < k; ++a)
@@ -275,6 +280,19 @@ std::string label(const testing::TestParamInfo<Combination>& p) {
   return p.param.scene + "_" + p.param.enforcement + "_" + p.param.discretization + "_" + p.param.friction;
 }
 
+// The step after `last`, at its configuration (the reference speed is 1 mm/s).
+StepView next_step(const Scene& scene, const StepRecord& last) {
+  StepView view;
+  view.mesh = &scene.mesh;
+  view.x = view.x_from = &last.x;
+  view.flow_stress = &last.flow_stress;
+  view.geometry = scene.geometry;
+  view.time = view.time_from = last.time;
+  view.dt = scene.stepping.stroke_increment;
+  view.step = last.step + 1;
+  return view;
+}
+
 class Conformance : public testing::TestWithParam<Combination> {};
 
 TEST_P(Conformance, SettlesBalancesAndHasExactDerivatives) {
@@ -326,21 +344,22 @@ TEST_P(Conformance, SettlesBalancesAndHasExactDerivatives) {
   // gradient against the energy's finite differences (a potential), Hessian
   // against the gradient's (the consistent tangent).
   const StepRecord& last = steps.back();
-  StepView view;
-  view.mesh = &scene.mesh;
-  view.x = view.x_from = &last.x;
-  view.flow_stress = &last.flow_stress;
-  view.geometry = scene.geometry;
-  view.time = view.time_from = last.time;
-  view.dt = scene.stepping.stroke_increment;  // the reference speed is 1 mm/s
-  view.step = last.step + 1;
+  const StepView view = next_step(scene, last);
   run.contact->begin_step(view);
   const Index n = scene.mesh.num_nodes();
   const TangentKind kind = run.contact->tangent();
   for (double shift : {0.0, 0.05}) {
     std::vector<Vec2> v = last.v;
     for (Index i = 0; i < n; ++i) v[i] += shift * Vec2(std::sin(1.0 + i), std::cos(2.0 * i));
-    Dense at(n);
+    // The last step's contact forces as the elements' nodal forces, fixed
+    // (direct's live Coulomb bound reads its reaction there; the coupling
+    // to the velocities is the kernel's, DirectCoulombTangentIsTheResiduals
+    // Derivative). One evaluation first: a solve's first uses the last
+    // bounds.
+    const std::vector<Vec2>& forces = last.contact_force;
+    Dense first(n, &forces);
+    run.contact->add_terms(view, v, first);
+    Dense at(n, &forces);
     run.contact->anchor_merit(view, v);
     run.contact->add_terms(view, v, at);
     const double h = 1e-7;
@@ -350,7 +369,7 @@ TEST_P(Conformance, SettlesBalancesAndHasExactDerivatives) {
       std::vector<Vec2> vp = v, vm = v;
       vp[k / 2](k % 2) += h;
       vm[k / 2](k % 2) -= h;
-      Dense p(n), m(n);
+      Dense p(n, &forces), m(n, &forces);
       run.contact->add_terms(view, vp, p);
       run.contact->add_terms(view, vm, m);
       if (kind.potential || kind.merit)
@@ -381,6 +400,57 @@ TEST(Conformance, FrictionlessEnforcementsAgreeToFirstOrderInOneOverBeta) {
   const double d2 = std::abs(final_load("penalty", {"formulations.penalty.beta_factor=1e-1"}) - direct);
   EXPECT_GT(d1, 1e-9 * std::abs(direct));  // measurable at 1e-2 of the default
   EXPECT_NEAR(std::log10(d1 / d2), 1.0, 0.2) << d1 << " " << d2;
+}
+
+// Coulomb under direct: the bound mu N follows the node's reaction N = n .
+// F_s within Newton, and the kernel's tangent carries its derivative (the
+// elements' Hessian rows of the node, TermSink::add_force_coupling). The
+// step's assembled tangent against central differences of its residual,
+// at the solved velocities of the last step and nearby.
+TEST(Conformance, DirectCoulombTangentIsTheResidualsDerivative) {
+  ContactRun run(die_block(friction_table("coulomb")), "direct", "");
+  ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
+  const Scene& scene = *run.scene;
+  const StepRecord& last = run.out.steps.back();
+  const StepView view = next_step(scene, last);
+  run.contact->begin_step(view);
+  std::vector<Index> force_nodes;
+  run.contact->force_nodes(view, force_nodes);
+  ASSERT_FALSE(force_nodes.empty()) << "no Coulomb row follows its reaction";
+  const Index ne = scene.mesh.num_elements();
+  const std::vector<std::array<double, 4>> strain(ne, {0.1, 0.1, 0.1, 0.1});
+  const std::vector<ElementMaterial> materials(ne, {&scene.bodies[0].law, 1e4, 0.0});
+  const std::vector<Vec2> fext(scene.mesh.num_nodes(), Vec2::Zero());
+  SolverWorkspace ws(LinearSolverChoice::Auto);
+  StepProblem problem(view, strain, materials, 1e-3, fext, *run.contact, ws);
+  std::vector<NodeConstraint> cons;
+  run.contact->constraints(view, cons);
+  problem.set_constraints(cons);
+  EXPECT_FALSE(run.contact->tangent().symmetric);
+  for (double shift : {0.0, 0.02}) {
+    std::vector<Vec2> v = last.v;
+    for (Index i = 0; i < scene.mesh.num_nodes(); ++i) v[i] += shift * Vec2(std::sin(1.0 + i), std::cos(2.0 * i));
+    const Vec u = problem.dofs().reduce(v);
+    problem.tangent(u, true);  // a solve's first tangent: the last bound; from then on live
+    const Mat A = Mat(problem.tangent(u, true));
+    Vec R, Rp, Rm;
+    double scale = 0;
+    problem.residual(u, R, scale);
+    const double h = 1e-7;
+    double coupled = 0;  // how far the tangent is from symmetric: the coupling is in it
+    for (Index i = 0; i < A.rows(); ++i)
+      for (Index j = 0; j < A.cols(); ++j) coupled = std::max(coupled, std::abs(A(i, j) - A(j, i)));
+    EXPECT_GT(coupled, 1e-6 * A.cwiseAbs().maxCoeff());
+    for (Index k = 0; k < u.size(); ++k) {
+      Vec up = u, um = u;
+      up(k) += h, um(k) -= h;
+      problem.residual(up, Rp, scale);
+      problem.residual(um, Rm, scale);
+      const Vec fd = (Rp - Rm) / (2 * h);
+      for (Index i = 0; i < u.size(); ++i)
+        EXPECT_NEAR(A(i, k), fd(i), 1e-5 * A.cwiseAbs().maxCoeff()) << "tangent (" << i << ", " << k << ")";
+    }
+  }
 }
 
 }  // namespace
