@@ -8,6 +8,7 @@
 // reused, as in the runs). BM_NewtonIteration: what newton_solve does per
 // iteration: tangent, factorization, solve, and one line-search trial
 // (residual + energy). Counter peak_rss_MB: the process's peak memory.
+#include <Eigen/CholmodSupport>
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
@@ -119,11 +120,33 @@ void BM_NewtonIteration(benchmark::State& state) {
   counters(state, f);
 }
 
+// CHOLMOD's two factorizations of the same tangent, symbolic analysis
+// reused: supernodal (the kernel's) against simplicial (up-looking, no
+// BLAS), numeric factorization + solve.
+template <class Factor>
+void factor_mode(benchmark::State& state) {
+  Fixture& f = fixture(static_cast<int>(state.range(0)));
+  const SpMat& A = f.problem->tangent(f.u, true);
+  const Vec b = Vec::Ones(f.u.size());
+  Factor llt;
+  llt.cholmod().print = 0;
+  llt.analyzePattern(A);
+  for (auto _ : state) {
+    llt.factorize(A);
+    benchmark::DoNotOptimize(Vec(llt.solve(b)).data());
+  }
+  counters(state, f);
+}
+void BM_CholmodSupernodal(benchmark::State& state) { factor_mode<Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>>(state); }
+void BM_CholmodSimplicial(benchmark::State& state) { factor_mode<Eigen::CholmodSimplicialLLT<SpMat, Eigen::Lower>>(state); }
+
 // n x n elements: 2 (n+1)^2 - constraints ~ 1e3, 1e4, 1e5 unknowns.
 #define SIZES ->Arg(22)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond)
 BENCHMARK(BM_Assembly) SIZES;
 BENCHMARK(BM_FactorSolve) SIZES;
 BENCHMARK(BM_NewtonIteration) SIZES;
+BENCHMARK(BM_CholmodSupernodal)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CholmodSimplicial)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
