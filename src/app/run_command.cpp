@@ -53,10 +53,17 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
                 label.c_str(), (long long)scene.mesh.num_elements(), (long long)scene.mesh.num_nodes(),
                 q.min_scaled_jacobian, q.max_aspect_ratio);
 
+  catch_interrupts();
   RunObserver obs(scene, out_dir, summary, opt.quiet, monitors);
   const RunOutcome out = run_with_remeshing(prepared, opt.formulation, opt.discretization, obs);
   obs.finish(out);
   for (const auto& w : out.warnings) std::fprintf(stderr, "rpfem: warning: %s\n", w.c_str());
+  if (out.interrupted) {
+    const int signo = interrupt_signal();
+    std::fprintf(stderr, "rpfem: %s: run %s (finished steps saved in %s)\n", signal_name(signo), out.reason.c_str(),
+                 out_dir.c_str());
+    return 128 + signo;
+  }
   if (!out.finished) {
     std::fprintf(stderr, "rpfem: run stopped: %s (finished steps saved in %s)\n", out.reason.c_str(),
                  out_dir.c_str());
@@ -88,6 +95,7 @@ int run_command(const RunOptions& opt) {
       std::fprintf(stderr, "rpfem: error: variant %s: %s\n", v.name.c_str(), e.what());
       rc = 2;
     }
+    if (rc > 128) return rc;  // interrupted: the other variants are not run
     if (rc == 2 || (rc == 3 && worst == 0)) worst = rc;
     char buf[160];
     std::snprintf(buf, sizeof buf, "  %-24s %-9s %8.1f s", v.name.c_str(),

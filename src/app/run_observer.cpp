@@ -230,7 +230,7 @@ std::string RunObserver::finish(const RunOutcome& out) {
   if (last_field_step_ != last_step_ && last_.x.size()) {
     writer_->write_step(fields(last_));
   }
-  summary_.insert_or_assign("status", out.finished ? "finished" : "stopped");
+  summary_.insert_or_assign("status", out.finished ? "finished" : out.interrupted ? "interrupted" : "stopped");
   if (!out.finished) summary_.insert_or_assign("reason", out.reason);
   summary_.insert_or_assign("total_newton_iterations", out.total_newton_iterations);
   summary_.insert_or_assign("total_step_cuts", out.total_cuts);

@@ -7,6 +7,7 @@
 
 #include <toml++/toml.h>
 
+#include "app/interrupt.hpp"
 #include "io/monitors.hpp"
 #include "io/result_writer.hpp"
 #include "model/remesh.hpp"
@@ -36,6 +37,7 @@ class RunObserver final : public StepObserver {
   std::vector<Index> pinned_nodes() const;
   // Completes summary.json with the outcome; returns its text.
   std::string finish(const RunOutcome& out);
+  bool stop_requested() const override { return interrupt_signal() != 0; }
   const std::string& dir() const { return dir_; }
 
  private:

@@ -49,7 +49,17 @@ struct LinearSolver::Impl {
   LU lu;
   std::uint64_t llt_pattern = 0, lu_pattern = 0;  // 0: not analyzed
   bool use_lu = false;
-  Impl() { llt.cholmod().print = 0; }  // the kernel never prints
+  Impl() {
+    llt.cholmod().print = 0;  // the kernel never prints
+    // Fill-reducing ordering by AMD only. CHOLMOD's default tries METIS
+    // too where AMD's fill is large, and METIS installs its own SIGTERM
+    // and SIGINT handlers while it runs (GKlib's gk_sigtrap), so a run
+    // could not be stopped during an analysis. See docs/notes.md for
+    // what it costs.
+    llt.cholmod().nmethods = 1;
+    llt.cholmod().method[0].ordering = CHOLMOD_AMD;
+    llt.cholmod().postorder = 1;
+  }
 };
 
 LinearSolver::LinearSolver(LinearSolverChoice choice) : impl_(std::make_unique<Impl>()), choice_(choice) {}

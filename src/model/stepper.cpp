@@ -595,8 +595,14 @@ RunOutcome Runner::run(const RunState* from) {
     out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, std::max(first, out_.steps), last_dt_};
     return finish();
   };
-  for (int step = first + 1; st.stroke < end - eps; ++step)
+  for (int step = first + 1; st.stroke < end - eps; ++step) {
+    if (obs_.stop_requested()) {
+      out_.interrupted = true;
+      out_.reason = "interrupted after step " + std::to_string(step - 1);
+      return stop();
+    }
     if (!take_step(st, sol, step)) return stop();
+  }
   out_.finished = true;
   return stop();
 }

@@ -66,6 +66,9 @@ class StepObserver {
   // A resumed run's first solve, at the configuration it resumes from (the
   // step on record already, after a remesh on its old mesh): not a step.
   virtual void on_resumed(const StepRecord&) {}
+  // Whether the run should stop at the next step boundary (a signal the
+  // driver caught): it then ends `interrupted`, its finished steps kept.
+  virtual bool stop_requested() const { return false; }
 };
 
 // Where a run is: the last recorded configuration and its solution. A run
@@ -83,6 +86,7 @@ struct RunState {
 struct RunOutcome {
   RunState last;  // the last recorded step's state
   bool finished = false;
+  bool interrupted = false;  // stopped at a step boundary on StepObserver::stop_requested
   // Stopped for a remesh (scene.remesh): why; the driver remeshes `last`
   // and resumes. Empty otherwise.
   std::string remesh;
