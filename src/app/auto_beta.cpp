@@ -1,4 +1,5 @@
 #include "app/auto_beta.hpp"
+#include "app/output_folder.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -108,7 +109,7 @@ int auto_beta_command(const CalibrateOptions& opt) {
   if (!(s.xtol > 0)) throw InputError("--xtol: expected a positive number (decades of beta_factor)");
   CachedRuns runs({opt.case_file, "penalty", opt.overrides, kKey, opt.out_dir, opt.engine}, largest_penetration);
 
-  fs::create_directories(opt.out_dir);
+  make_output_folder(opt.out_dir);
   if (!opt.quiet) print_search_start(s, tol, opt.out_dir);
   auto penetration = [&](double factor) {
     bool cached = false;

@@ -1,4 +1,5 @@
 #include "app/calibrate_command.hpp"
+#include "app/output_folder.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -154,7 +155,7 @@ int fit_curve(const CalibrateOptions& opt) {
   });
   const std::string unit = ring ? "percentage points" : "relative";
 
-  fs::create_directories(opt.out_dir);
+  make_output_folder(opt.out_dir);
   if (!opt.quiet) print_fit_start(opt, s, target, cmp, unit);
   auto misfit = [&](double x) {
     bool cached = false;

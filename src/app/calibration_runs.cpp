@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/optimize_1d.hpp"
+#include "app/output_folder.hpp"
 #include "app/run_pool.hpp"
 #include "app/subprocess.hpp"
 #include "core/version.hpp"
@@ -53,6 +54,7 @@ void write_evaluations_csv(const std::string& out_dir, const std::vector<Evaluat
 
 CachedRuns::CachedRuns(RunSpec spec, Score score)
     : spec_(std::move(spec)), score_(std::move(score)), self_(self_executable()) {
+  make_output_folder(spec_.out_dir);
   fs::remove_all(fs::path(spec_.out_dir) / "evals");
 }
 

@@ -47,7 +47,8 @@ class CachedRuns {
  public:
   // score: from the run's history.csv (its folder given for messages).
   using Score = std::function<double(const History&, const std::string& history_path)>;
-  // Clears OUT/evals (the folders of an earlier calibration into OUT).
+  // Creates OUT (InputError where it cannot be) and clears OUT/evals (the
+  // folders of an earlier calibration into OUT).
   CachedRuns(RunSpec spec, Score score);
   // The cached evaluation of this exact value, else a new run. Throws
   // RunFailed if the run exits non-zero.

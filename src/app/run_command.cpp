@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "app/case_setup.hpp"
+#include "app/output_folder.hpp"
 #include "app/remeshing_run.hpp"
 #include "app/run_observer.hpp"
 #include "factory.hpp"
@@ -19,6 +20,7 @@ namespace {
 
 // One run: the case with the variant's overrides, then the user's.
 int run_one(const RunOptions& opt, const Variant* variant, const std::string& out_dir) {
+  make_output_folder(out_dir);
   std::vector<std::string> overrides;
   if (variant) overrides = variant->set;
   overrides.insert(overrides.end(), opt.overrides.begin(), opt.overrides.end());

@@ -107,7 +107,14 @@ std::string run_command(const PoolRun& r, const std::string& self) {
 }
 
 void run_one(PoolRun& r, const std::string& self) {
-  fs::create_directories(r.dir);
+  // The run's folder: a failure there (a full or read-only disk) is the
+  // run's, exit 2, not the pool thread's.
+  std::error_code ec;
+  fs::create_directories(r.dir, ec);
+  if (ec) {
+    r.rc = 2, r.seconds = 0;
+    return;
+  }
   const std::string cmd = run_command(r, self) + " > " + shell_quote(r.dir + "/run.log") + " 2>&1";
   const auto s0 = Clock::now();
   r.rc = run_shell(cmd);

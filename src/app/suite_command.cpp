@@ -1,4 +1,5 @@
 #include "app/suite_command.hpp"
+#include "app/output_folder.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -134,7 +135,7 @@ int suite_command(const SuiteOptions& options) {
   SuiteOptions opt = options;
   if (opt.quick) opt.overrides.insert(opt.overrides.begin(), "run.mesh_factor=0.5");
   if (!fs::is_directory(opt.cases_dir)) throw InputError(opt.cases_dir + ": no such cases folder");
-  fs::create_directories(opt.out_dir);
+  make_output_folder(opt.out_dir);
   std::vector<Job> jobs = plan(opt);
   if (jobs.empty()) throw InputError(opt.cases_dir + ": no scene and formulation matched");
   std::vector<SweepPlan> studies = plan_studies(opt);

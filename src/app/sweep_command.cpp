@@ -1,4 +1,5 @@
 #include "app/sweep_command.hpp"
+#include "app/output_folder.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -340,6 +341,7 @@ SweepPlan plan_sweep(const SweepOptions& opt) {
 
 int sweep_command(const SweepOptions& opt) {
   SweepPlan plan = plan_sweep(opt);
+  make_output_folder(opt.out_dir);
   if (!opt.quiet)
     std::printf("rpfem sweep %s: %s, results in %s\n", plan.study.name.c_str(), plan.study.description.c_str(),
                 opt.out_dir.c_str());
@@ -349,7 +351,7 @@ int sweep_command(const SweepOptions& opt) {
 
 int write_sweep(const SweepPlan& plan) {
   const SweepOptions& opt = plan.options;
-  fs::create_directories(opt.out_dir);
+  make_output_folder(opt.out_dir);
   std::vector<Outcome> out = outcomes(plan);
   std::vector<RichardsonGroup> rich;
   if (plan.study.reference == StudyReference::Richardson) rich = richardson_groups(plan, out);

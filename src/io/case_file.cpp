@@ -20,8 +20,12 @@ std::string show(const toml::node& n) {
   return os.str();
 }
 
-bool is_index(const std::string& s) {
-  return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+// An array index in a key path: its value, or SIZE_MAX where the part is
+// not a number or does not fit (then no array has it).
+std::size_t array_index(const std::string& s) {
+  std::size_t v = SIZE_MAX;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  return s.empty() || ec != std::errc() || end != s.data() + s.size() ? SIZE_MAX : v;
 }
 
 std::vector<std::string> split_path(const std::string& p) {
@@ -76,8 +80,8 @@ CaseFile::CaseFile(const std::string& path, const std::vector<std::string>& over
       if (auto* t = cur->as_table()) {
         if (!t->contains(parts[i])) t->insert(parts[i], toml::table{});
         cur = t->get(parts[i]);
-      } else if (auto* a = cur->as_array(); a && is_index(parts[i]) && std::stoul(parts[i]) < a->size()) {
-        cur = a->get(std::stoul(parts[i]));
+      } else if (auto* a = cur->as_array(); a && array_index(parts[i]) < a->size()) {
+        cur = a->get(array_index(parts[i]));
       } else {
         throw InputError("--set '" + o + "': '" + parts[i] + "' does not name a table in " + path_);
       }

@@ -34,4 +34,23 @@ expect expect-unknown "expect.outcom': unknown key" -- "$rpfem" run "$ext" --out
 expect expect-bounds "expect.measure.0.min': min is above max" -- "$rpfem" run "$ext" --out "$tmp/o10" --set expect.measure.0.min=1.0
 expect expect-reference "expect.measure.0.reference_case': no such file" -- "$rpfem" run "$ext" --out "$tmp/o11" --set expect.measure.0.reference_case=nope.toml
 expect penetration-tolerance "run.penetration_tolerance': expected a positive number" -- "$rpfem" run "$base" --out "$tmp/o12" --set run.penetration_tolerance=0.0
+# Output folders that cannot be: bad input naming --out, not an internal
+# error (each command creates its folder before anything runs).
+touch "$tmp/afile"
+expect out-under-file "--out '$tmp/afile/sub': cannot create the output folder: Not a directory" -- \
+  "$rpfem" run "$base" --out "$tmp/afile/sub"
+expect out-is-file "--out '$tmp/afile': a file is there" -- "$rpfem" run "$base" --out "$tmp/afile"
+expect out-empty "--out: expected a folder name, got an empty one" -- "$rpfem" run "$base" --out ""
+expect out-too-long "cannot create the output folder: File name too long" -- \
+  "$rpfem" run "$base" --out "$tmp/$(printf 'a%.0s' $(seq 300))"
+expect out-unwritable "--out '/proc/rpfem': cannot create the output folder" -- "$rpfem" run "$base" --out /proc/rpfem
+expect sweep-out-is-file "--out '$tmp/afile': a file is there" -- \
+  "$rpfem" sweep "$src/cases/studies/step_convergence_test2.toml" --out "$tmp/afile"
+expect suite-out-is-file "--out '$tmp/afile': a file is there" -- \
+  "$rpfem" suite --out "$tmp/afile" --scene upsetting_dies_frictionless_axisym
+expect calibrate-out-is-file "--out '$tmp/afile': a file is there" -- \
+  "$rpfem" calibrate "$src/cases/upsetting_dies_frictionless_axisym.toml" --auto-beta 1e-3 --out "$tmp/afile"
+# An array index in --set too large for any integer: no such entry.
+expect set-huge-index "'99999999999999999999' does not name a table" -- \
+  "$rpfem" run "$src/cases/upsetting_dies_frictionless_axisym.toml" --out "$tmp/o13" --set contact_pairs.99999999999999999999.body=x
 exit $fail
