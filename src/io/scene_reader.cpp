@@ -218,6 +218,16 @@ DieProfile read_die_profile(CaseSection& d, const std::string& name) {
     fillets.push_back(v.real("fillet", 0.0, Range::nonnegative(), "mm"));
   }
   if (vertices.size() < 2) d.fail("vertex", "a die needs at least two [[dies." + name + ".vertex]] entries");
+  // Every segment of positive length: two coincident vertices make a
+  // segment with no normal (penalty and ipopt ran on with no contact).
+  double extent = 0;
+  for (const Vec2& p : vertices) extent = std::max(extent, (p - vertices[0]).norm());
+  for (std::size_t k = 1; k < vertices.size(); ++k)
+    if ((vertices[k] - vertices[k - 1]).norm() <= 1e-12 * std::max(extent, 1.0))
+      d.fail("vertex." + std::to_string(k), "coincides with vertex " + std::to_string(k - 1) +
+                                               " (x = " + std::to_string(vertices[k](0)) + ", y = " +
+                                               std::to_string(vertices[k](1)) +
+                                               " mm): expected segments of positive length");
   try {
     return DieProfile(vertices, fillets);
   } catch (const std::invalid_argument& e) {

@@ -429,6 +429,24 @@ void Runner::set_up() {
   std::vector<std::string> load_names = bc_.load_names();
   for (const auto& n : info.load_names) load_names.push_back(n);
   derived_.contact = info.derived;
+  // No run starts on scales double precision cannot hold: a flow stress of
+  // 1e308 MPa made alpha infinite, the first residual NaN, and
+  // summary.json read "Infinity".
+  for (std::size_t b = 0; b < scene_.bodies.size(); ++b)
+    if (!std::isfinite(derived_.alpha[b]) || !std::isfinite(scene_.bodies[b].law.yield(0.0)))
+      throw InputError(scene_.file + ": key 'bodies." + scene_.bodies[b].name +
+                       ".material': its initial flow stress gives a volumetric penalty alpha of " +
+                       std::to_string(derived_.alpha[b]) +
+                       " MPa s; expected a flow stress and speeds whose scales are finite in double precision");
+  const std::vector<NamedValue> scales = {{"reference strain rate (1/s)", derived_.reference_strain_rate},
+                                          {"nominal step (s)", derived_.dt_nominal},
+                                          {"force scale (N)", derived_.force_floor}};
+  std::vector<NamedValue> all = scales;
+  all.insert(all.end(), info.derived.begin(), info.derived.end());
+  for (const auto& d : all)
+    if (!std::isfinite(d.value))
+      throw InputError(scene_.file + ": the run's " + d.name + " is " + std::to_string(d.value) +
+                       "; expected finite scales (check the materials' flow stress, the speeds and the sizes)");
   obs_.on_start(derived_, load_names, info.column_names);
 }
 

@@ -53,4 +53,12 @@ expect calibrate-out-is-file "--out '$tmp/afile': a file is there" -- \
 # An array index in --set too large for any integer: no such entry.
 expect set-huge-index "'99999999999999999999' does not name a table" -- \
   "$rpfem" run "$src/cases/upsetting_dies_frictionless_axisym.toml" --out "$tmp/o13" --set contact_pairs.99999999999999999999.body=x
+# A die with two coincident vertices (a segment with no normal), and a
+# flow stress whose scales are not finite in double precision.
+expect die-zero-segment "key 'dies.top_die.vertex.1': coincides with vertex 0" -- \
+  "$rpfem" run "$src/cases/upsetting_dies_frictionless_axisym.toml" --out "$tmp/o14" --formulation penalty \
+  --set dies.top_die.vertex.1.x=-1.0 --set dies.top_die.vertex.1.y=10.0
+sed 's/^library = "AISI1035".*/K = 1e308\nn = 0.2/' "$base" > "$tmp/bigk.toml"
+expect infinite-scales "key 'bodies.billet.material': its initial flow stress gives a volumetric penalty alpha of inf" -- \
+  "$rpfem" run "$tmp/bigk.toml" --out "$tmp/o15"
 exit $fail
