@@ -1,3 +1,4 @@
+#include <cctype>
 #include "io/case_file.hpp"
 
 #include <algorithm>
@@ -211,6 +212,27 @@ int CaseSection::integer(const std::string& key, std::optional<int> def, int lo,
   if (!v || *v < lo || *v > hi) fail(key, "expected " + expect + ", got " + show(*n));
   record(key, toml::value<int64_t>(*v));
   return static_cast<int>(*v);
+}
+
+namespace {
+constexpr const char* kNameRule = "a name of letters, digits, '_', '-', '.' and '+' (it becomes a column, an attribute "
+                                  "and a file name)";
+bool valid_name(const std::string& v) {
+  if (v.empty()) return false;
+  for (unsigned char c : v)
+    if (!(std::isalnum(c) || c == '_' || c == '-' || c == '.' || c == '+')) return false;
+  return true;
+}
+}  // namespace
+
+std::string CaseSection::name(const std::string& key, std::optional<std::string> def) {
+  const std::string v = text(key, std::move(def));
+  if (!valid_name(v)) fail(key, std::string("expected ") + kNameRule + ", got \"" + v + "\"");
+  return v;
+}
+
+void CaseSection::check_name(const std::string& key) const {
+  if (!valid_name(key)) fail(key, std::string("the table's name: expected ") + kNameRule);
 }
 
 std::string CaseSection::text(const std::string& key, std::optional<std::string> def,

@@ -47,6 +47,12 @@ class CaseSection {
   template <class E>
   E choice(const std::string& key, std::optional<std::string> def, const std::vector<std::pair<std::string, E>>& names);
   bool flag(const std::string& key, std::optional<bool> def);
+  // A name that becomes a column of history.csv, an HDF5 attribute or a
+  // file name (a run, body, die, monitor, velocity group or variant):
+  // letters, digits, '_', '-', '.' and '+', read as text(). check_name: a
+  // name given as this table's key `key` (bodies.NAME, dies.NAME).
+  std::string name(const std::string& key, std::optional<std::string> def);
+  void check_name(const std::string& key) const;
   // Required arrays: of exactly n numbers (n < 0: any length >= 1), of strings.
   std::vector<double> real_array(const std::string& key, int n, const std::string& what);
   std::vector<std::string> text_array(const std::string& key, const std::string& what);

@@ -27,7 +27,7 @@ std::vector<Monitor> read_monitors(CaseSection root, const Mesh& mesh) {
   std::set<std::string> names;
   for (CaseSection s : root.table_array("monitors")) {
     Monitor m;
-    m.name = s.text("name", std::nullopt);
+    m.name = s.name("name", std::nullopt);
     if (m.name.empty() || !names.insert(m.name).second)
       s.fail("name", "a non-empty name, unique among the monitors");
     m.side = s.text("side", std::nullopt);

@@ -129,7 +129,7 @@ std::vector<std::string> side_list(CaseSection& c, const std::string& key, const
 // mesh factor, which scales every body's division counts (the suite's
 // --quick: 0.5).
 double read_run(CaseSection run, const std::string& file, Scene& sc) {
-  sc.name = run.text("name", std::filesystem::path(file).stem().string());
+  sc.name = run.name("name", std::filesystem::path(file).stem().string());
   sc.description = run.text("description", "");
   const std::string geom = run.text("geometry", std::nullopt, {"axisymmetric", "plane_strain"});
   sc.geometry = geom == "axisymmetric" ? Geometry::Axisymmetric : Geometry::PlaneStrain;
@@ -163,7 +163,7 @@ void read_body_loads(CaseSection& b, const std::string& name, Scene& sc) {
     VelocityGroup g;
     g.body = name;
     g.side = name + "." + v.text("side", std::nullopt);
-    g.name = v.text("name", g.side);
+    g.name = v.name("name", g.side);
     if (!sc.mesh.sides.count(g.side)) v.fail("side", "no side '" + g.side + "' on this body's mesh");
     g.vx = v.optional_real("vx", Range::any(), "mm/s");
     g.vy = v.optional_real("vy", Range::any(), "mm/s");
@@ -185,6 +185,7 @@ void read_bodies(CaseSection& root, double mesh_factor, Scene& sc) {
   CaseSection bodies = root.required_table("bodies");
   if (bodies.keys().empty()) bodies.fail("", "at least one body is required");
   for (const auto& name : bodies.keys()) {
+    bodies.check_name(name);
     CaseSection b = bodies.required_table(name);
     BodySpec spec;
     spec.name = name;
@@ -256,6 +257,7 @@ void read_dies(CaseSection& root, Scene& sc) {
   auto dies = root.table("dies");
   if (!dies) return;
   for (const auto& name : dies->keys()) {
+    dies->check_name(name);
     CaseSection d = dies->required_table(name);
     Die die;
     die.name = name;

@@ -9,7 +9,7 @@ std::vector<Variant> read_variants(CaseSection root) {
   std::set<std::string> names;
   for (CaseSection s : root.table_array("variants")) {
     Variant v;
-    v.name = s.text("name", std::nullopt);
+    v.name = s.name("name", std::nullopt);
     if (v.name.empty() || v.name == "all" || v.name.find('/') != std::string::npos || !names.insert(v.name).second)
       s.fail("name", "a non-empty name, unique among the variants, not 'all', without '/'");
     v.set = s.text_array("set", "overrides \"key.path=value\", as --set");

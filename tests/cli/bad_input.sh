@@ -61,4 +61,12 @@ expect die-zero-segment "key 'dies.top_die.vertex.1': coincides with vertex 0" -
 sed 's/^library = "AISI1035".*/K = 1e308\nn = 0.2/' "$base" > "$tmp/bigk.toml"
 expect infinite-scales "key 'bodies.billet.material': its initial flow stress gives a volumetric penalty alpha of inf" -- \
   "$rpfem" run "$tmp/bigk.toml" --out "$tmp/o15"
+# Names that become columns, attributes and file names: letters, digits,
+# '_', '-', '.' and '+' (a comma or a quote broke history.csv's header).
+expect run-name "key 'run.name': expected a name of letters, digits" -- \
+  "$rpfem" run "$base" --out "$tmp/o16" --set 'run.name=a;b'
+sed 's/^\[bodies\.billet/[bodies."bil,let"/' "$base" > "$tmp/bodyname.toml"
+expect body-name "key 'bodies.bil,let': the table's name: expected a name" -- "$rpfem" run "$tmp/bodyname.toml" --out "$tmp/o17"
+expect monitor-name "key 'monitors.0.name': expected a name of letters, digits" -- \
+  "$rpfem" run "$src/cases/upsetting_friction.toml" --out "$tmp/o18" --set 'monitors.0.name=bulge,radius'
 exit $fail
