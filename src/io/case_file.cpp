@@ -55,6 +55,8 @@ std::string Range::describe() const {
 
 CaseFile::CaseFile(const std::string& path, const std::vector<std::string>& overrides) : path_(path) {
   if (!std::filesystem::exists(path)) throw InputError(path + ": no such case file");
+  if (std::filesystem::is_directory(path))
+    throw InputError(path + ": a folder; expected a case file (TOML), e.g. one of the .toml files in it");
   try {
     data_ = toml::parse_file(path);
   } catch (const toml::parse_error& e) {

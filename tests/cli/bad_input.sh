@@ -69,4 +69,5 @@ sed 's/^\[bodies\.billet/[bodies."bil,let"/' "$base" > "$tmp/bodyname.toml"
 expect body-name "key 'bodies.bil,let': the table's name: expected a name" -- "$rpfem" run "$tmp/bodyname.toml" --out "$tmp/o17"
 expect monitor-name "key 'monitors.0.name': expected a name of letters, digits" -- \
   "$rpfem" run "$src/cases/upsetting_friction.toml" --out "$tmp/o18" --set 'monitors.0.name=bulge,radius'
+expect case-is-folder "cases: a folder; expected a case file" -- "$rpfem" run "$src/cases" --out "$tmp/o19"
 exit $fail
