@@ -77,14 +77,18 @@ void DirectEnforcement::begin_step(const StepView& v, const std::vector<ContactR
   set_live();
 }
 
+std::map<Index, std::vector<std::size_t>> DirectEnforcement::contact_rows_by_node() const {
+  std::map<Index, std::vector<std::size_t>> out;
+  for (std::size_t i = 0; i < rows_->size(); ++i)
+    if (now_[i].in_contact) out[(*rows_)[i].kin.nodes[0]].push_back(i);
+  return out;
+}
+
 void DirectEnforcement::set_live() {
-  const auto& rows = *rows_;
-  std::map<Index, int> on_node;
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    if (now_[i].in_contact) ++on_node[rows[i].kin.nodes[0]];
-  live_.assign(rows.size(), 0);
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    live_[i] = coulomb_in_newton_ && !fixed_point_ && now_[i].in_contact && law(i).kind == FrictionLaw::Kind::Coulomb && on_node[rows[i].kin.nodes[0]] == 1;
+  live_.assign(rows_->size(), 0);
+  if (!coulomb_in_newton_ || fixed_point_) return;
+  for (const auto& [node, ids] : contact_rows_by_node())
+    if (ids.size() == 1 && law(ids[0]).kind == FrictionLaw::Kind::Coulomb) live_[ids[0]] = 1;
 }
 
 bool DirectEnforcement::fall_back() {
@@ -188,11 +192,8 @@ StepCheck DirectEnforcement::settle(const StepView& v, const std::vector<Vec2>& 
   // load counted the other's: the backward extrusion's container wall
   // carried the corner node's bottom reaction, 0.7 kN of vertical load
   // where the wall's friction alone is 4.8 kN.
-  std::map<Index, std::vector<std::size_t>> at_node;
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    if (now_[i].in_contact) at_node[rows[i].kin.nodes[0]].push_back(i);
   std::vector<char> shared(rows.size(), 0);
-  for (const auto& [node, ids] : at_node) {
+  for (const auto& [node, ids] : contact_rows_by_node()) {
     if (ids.size() < 2) continue;
     Eigen::MatrixXd A(2, ids.size());
     for (std::size_t c = 0; c < ids.size(); ++c) A.col(c) = rows[ids[c]].kin.n;

@@ -82,6 +82,8 @@ class DirectEnforcement final : public ContactEnforcement {
   // follows its reaction within Newton (set_live).
   std::vector<char> live_;
   void set_live();
+  // The rows in contact, by slave node.
+  std::map<Index, std::vector<std::size_t>> contact_rows_by_node() const;
   // Whether this solve assembled a tangent yet (add_terms: a live bound
   // from then on).
   mutable bool started_ = false;
