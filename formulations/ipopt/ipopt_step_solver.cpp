@@ -17,6 +17,9 @@ constexpr double kAcceptKkt = 1e-8;
 // Ipopt's complementarity tolerance as a fraction of kAcceptKkt (in the
 // checked measure's units).
 constexpr double kComplTolFactor = 0.1;
+// A relative Kuhn-Tucker residual within this multiple of the residual's
+// own round-off (Kkt::round_off, a one-sample estimate) is round-off.
+constexpr double kRoundOffMultiple = 10;
 // Ipopt's default initial barrier parameter, for the run's cold first solve.
 constexpr double kColdMuInit = 0.1;
 
@@ -118,16 +121,24 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
   // correction at round-off, as Newton's round-off floor in
   // solver/newton.cpp), are taken when the contact conditions hold to
   // kAcceptKkt and stationarity is within the floor Newton accepts, 100
-  // tol_force (a virtual rigid body's terms leave 1e-6; kkt_round_off
-  // shows the residual's own evaluation noise there).
-  const bool contact_ok = kkt_.primal <= kAcceptPrimal && kkt_.dual <= kAcceptKkt && kkt_.complementarity <= kAcceptKkt;
+  // tol_force (a virtual rigid body's terms leave 1e-6). Where the
+  // residual's own round-off (kkt_.round_off, relative to the same force
+  // scale) is larger, as in a step in which nothing is loaded yet (mortar
+  // rows at a first touch, whose weighted gaps close over a step or two:
+  // every element force is round-off and the scale is the force floor),
+  // those relative measures cannot fall below it: forces and stationarity
+  // within kRoundOffMultiple of it are round-off too.
+  const double floor = kRoundOffMultiple * kkt_.round_off;
+  const double kkt_limit = std::max(kAcceptKkt, floor);
+  const bool contact_ok =
+      kkt_.primal <= kAcceptPrimal && kkt_.dual <= kkt_limit && kkt_.complementarity <= kkt_limit;
   const bool stalled = out.status == Ipopt::STOP_AT_ACCEPTABLE_POINT || out.status == Ipopt::STOP_AT_TINY_STEP;
-  const bool acceptable = contact_ok && stalled && kkt_.stationarity <= 100 * round_off_force_;
+  const bool acceptable = contact_ok && stalled && kkt_.stationarity <= std::max(100 * round_off_force_, floor);
   if (out.status != Ipopt::SUCCESS && !acceptable) {
     char buf[200];
     std::snprintf(buf, sizeof buf, " (%d iterations; Kuhn-Tucker residuals: primal %.1e, dual %.1e, complementarity "
-                  "%.1e, stationarity %.1e)", out.iterations, kkt_.primal, kkt_.dual, kkt_.complementarity,
-                  kkt_.stationarity);
+                  "%.1e, stationarity %.1e; its round-off %.1e)", out.iterations, kkt_.primal, kkt_.dual,
+                  kkt_.complementarity, kkt_.stationarity, kkt_.round_off);
     result.reason = "Ipopt: " + ipopt_status_text(out.status) + buf;
     return result;
   }
