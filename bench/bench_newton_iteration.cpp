@@ -3,7 +3,8 @@
 //
 //   build/bench/rpfem_bench --benchmark_counters_tabular=true
 //
-// BM_Assembly: residual + consistent tangent. BM_FactorSolve: CHOLMOD
+// BM_Assembly: residual + consistent tangent, on the threads given by the
+// second argument (model/element_loop.hpp). BM_FactorSolve: CHOLMOD
 // numeric factorization + solve of the same matrix (symbolic analysis
 // reused, as in the runs). BM_NewtonIteration: what newton_solve does per
 // iteration: tangent, factorization, solve, and one line-search trial
@@ -86,6 +87,7 @@ void counters(benchmark::State& state, const Fixture& f) {
 
 void BM_Assembly(benchmark::State& state) {
   Fixture& f = fixture(static_cast<int>(state.range(0)));
+  f.ws.threads = static_cast<int>(state.range(1));
   Vec R;
   double scale;
   for (auto _ : state) {
@@ -93,6 +95,8 @@ void BM_Assembly(benchmark::State& state) {
     benchmark::DoNotOptimize(f.problem->tangent(f.u, true).nonZeros());
   }
   counters(state, f);
+  state.counters["threads"] = f.ws.threads;
+  f.ws.threads = 1;
 }
 
 void BM_FactorSolve(benchmark::State& state) {
@@ -108,6 +112,7 @@ void BM_FactorSolve(benchmark::State& state) {
 
 void BM_NewtonIteration(benchmark::State& state) {
   Fixture& f = fixture(static_cast<int>(state.range(0)));
+  f.ws.threads = static_cast<int>(state.range(1));
   Vec R, du;
   double scale;
   f.problem->residual(f.u, R, scale);
@@ -118,6 +123,8 @@ void BM_NewtonIteration(benchmark::State& state) {
     benchmark::DoNotOptimize(f.problem->energy(trial));
   }
   counters(state, f);
+  state.counters["threads"] = f.ws.threads;
+  f.ws.threads = 1;
 }
 
 // CHOLMOD's two factorizations of the same tangent, symbolic analysis
@@ -142,9 +149,11 @@ void BM_CholmodSimplicial(benchmark::State& state) { factor_mode<Eigen::CholmodS
 
 // n x n elements: 2 (n+1)^2 - constraints ~ 1e3, 1e4, 1e5 unknowns.
 #define SIZES ->Arg(22)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond)
-BENCHMARK(BM_Assembly) SIZES;
+// The same with one and two threads of the element loops.
+#define SIZES_THREADS ->ArgsProduct({{22, 70, 223}, {1, 2}})->Unit(benchmark::kMillisecond)
+BENCHMARK(BM_Assembly) SIZES_THREADS;
 BENCHMARK(BM_FactorSolve) SIZES;
-BENCHMARK(BM_NewtonIteration) SIZES;
+BENCHMARK(BM_NewtonIteration) SIZES_THREADS;
 BENCHMARK(BM_CholmodSupernodal)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CholmodSimplicial)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <thread>
 
 #include "mesh/generate.hpp"
 #include "mesh/quality.hpp"
@@ -314,6 +315,9 @@ SolverSpec read_solver(CaseSection solver) {
   nw.direct_iterations = solver.integer("direct_iterations", nw.direct_iterations, 0, 100);
   nw.max_halvings = solver.integer("line_search_halvings", nw.max_halvings, 0, 60);
   nw.secant_after_cut = solver.flag("secant_after_cut", nw.secant_after_cut);
+  // 0: the machine's cores.
+  const int threads = solver.integer("threads", 1, 0, 256);
+  out.threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "umfpack"});
   out.linear_solver = ls == "cholmod"   ? LinearSolverChoice::Cholmod
                       : ls == "umfpack" ? LinearSolverChoice::Umfpack

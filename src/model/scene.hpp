@@ -70,6 +70,9 @@ struct SolverSpec {
   double regularization = 0;          // viscous regularization, relative to sigma_y / rate_ref
   NewtonSettings newton;
   LinearSolverChoice linear_solver = LinearSolverChoice::Auto;
+  // Threads of the element loops (model/element_loop.hpp); the results do
+  // not depend on it, bit for bit.
+  int threads = 1;
 };
 
 enum class TimeIntegration { Euler, Midpoint };

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "fem/edge_weights.hpp"
+#include "model/element_loop.hpp"
 #include "model/scene.hpp"
 
 namespace rpfem {
@@ -108,8 +109,12 @@ RigidPlasticInput StepProblem::element_input(Index e, const std::vector<Vec2>& v
 double StepProblem::energy(const Vec& u) const {
   std::vector<Vec2> v;
   ws_.dofs.expand(u, v);
+  const Index ne = view_.mesh->num_elements();
+  std::vector<double>& pi = ws_.element_values;
+  pi.resize(ne);
+  for_each_element(ne, ws_.threads, [&](Index el) { pi[el] = rigid_plastic_energy(element_input(el, v)); });
   double e = 0;
-  for (Index el = 0; el < view_.mesh->num_elements(); ++el) e += rigid_plastic_energy(element_input(el, v));
+  for (Index el = 0; el < ne; ++el) e += pi[el];
   for (std::size_t i = 0; i < v.size(); ++i) e -= fext_[i].dot(v[i]);
   EnergySink sink;
   contact_.add_terms(view_, v, sink);
@@ -118,13 +123,19 @@ double StepProblem::energy(const Vec& u) const {
 
 double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const {
   F.assign(v.size(), Vec2::Zero());
-  ElementTerms t;
-  double scale2 = 0;
-  for (Index el = 0; el < view_.mesh->num_elements(); ++el) {
+  const Index ne = view_.mesh->num_elements();
+  std::vector<Vec8>& grad = ws_.element_forces;
+  grad.resize(ne);
+  for_each_element(ne, ws_.threads, [&](Index el) {
+    ElementTerms t;
     rigid_plastic_terms(element_input(el, v), Tangent::None, t);
+    grad[el] = t.grad;
+  });
+  double scale2 = 0;
+  for (Index el = 0; el < ne; ++el) {
     const auto& q = view_.mesh->quads[el];
-    for (int a = 0; a < 4; ++a) F[q[a]] += t.grad.segment<2>(2 * a);
-    scale2 += t.grad.squaredNorm();
+    for (int a = 0; a < 4; ++a) F[q[a]] += grad[el].segment<2>(2 * a);
+    scale2 += grad[el].squaredNorm();
   }
   for (std::size_t i = 0; i < v.size(); ++i) F[i] -= fext_[i];
   std::vector<Index> nodes;
@@ -152,8 +163,11 @@ const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
   std::vector<Vec2> v;
   ws_.dofs.expand(u, v);
   ws_.assembler.set_zero();
-  ElementTerms t;
   const Tangent kind = consistent ? Tangent::Consistent : Tangent::Secant;
+  const Index ne = view_.mesh->num_elements();
+  std::vector<ElementTerms>& terms = ws_.terms;
+  terms.resize(ne);
+  for_each_element(ne, ws_.threads, [&](Index el) { rigid_plastic_terms(element_input(el, v), kind, terms[el]); });
   // The contact's force nodes: their elements' force and, for a
   // consistent tangent, their Hessian rows, gathered in the same loop. A
   // secant matrix is no derivative (K_s v = F): a secant iteration leaves
@@ -164,8 +178,8 @@ const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
   for (Index n : nodes) nf.force[n] = -fext_[n];
   if (consistent)
     for (Index n : nodes) nf.rows[n];
-  for (Index el = 0; el < view_.mesh->num_elements(); ++el) {
-    rigid_plastic_terms(element_input(el, v), kind, t);
+  for (Index el = 0; el < ne; ++el) {
+    const ElementTerms& t = terms[el];
     const auto& q = view_.mesh->quads[el];
     ws_.assembler.add(q.data(), 4, t.hess.data());
     if (nodes.empty()) continue;

@@ -35,6 +35,10 @@ struct SolverWorkspace {
   bool has_pattern = false;
   int pattern_builds = 0;
   double assembly_seconds = 0;
+  int threads = 1;                    // of the element loops
+  std::vector<ElementTerms> terms;    // per element, the tangent's element terms
+  std::vector<double> element_values; // per element, energies or squared force norms
+  std::vector<Vec8> element_forces;   // per element, dPi_e/dv
 };
 
 class StepProblem {

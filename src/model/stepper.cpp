@@ -82,7 +82,9 @@ struct Solution {
 class Runner {
  public:
   Runner(const Scene& s, ContactFormulation& c, StepObserver& o)
-      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver) {}
+      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver) {
+    ws_.threads = s.solver.threads;
+  }
 
   RunOutcome run(const RunState* from);
 

@@ -1,0 +1,23 @@
+// The element loops of the kernel (residual, tangent, energy) run over
+// threads in two phases: each element's terms into its own slot (any
+// thread, any order), then their sums in element order on one thread. A
+// sum's order is then the serial loop's whatever the thread count, so the
+// results are the same bits with one thread or many.
+#pragma once
+#include "core/types.hpp"
+
+namespace rpfem {
+
+// Below this many elements the loop stays on one thread (its cost is then
+// about the threads' start).
+constexpr Index kParallelElements = 512;
+
+// Calls f(e) for e in [0, n), over `threads` threads (OpenMP, static
+// schedule). f must write only what belongs to element e.
+template <class F>
+void for_each_element(Index n, int threads, F&& f) {
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= kParallelElements)
+  for (Index e = 0; e < n; ++e) f(e);
+}
+
+}  // namespace rpfem
