@@ -71,7 +71,10 @@ class CaseSection {
  private:
   friend class CaseFile;
   CaseSection(CaseFile* f, toml::table* t, std::string path) : file_(f), t_(t), path_(std::move(path)) {}
-  std::string full(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  // The key's whole path; "" names this table itself.
+  std::string full(const std::string& key) const {
+    return path_.empty() ? key : key.empty() ? path_ : path_ + "." + key;
+  }
   toml::node* get(const std::string& key) const;
   void record(const std::string& key, toml::node&& value);
 
