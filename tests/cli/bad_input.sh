@@ -86,4 +86,11 @@ expect zero-size-element "upsetting_frictionless_axisym.toml: key 'bodies.billet
 expect quadrilateral-corners "paper_test2_virtual_rigid.toml: key 'bodies.punch.mesh.corners': corner 3 (0.000000, 16.000000) turns clockwise" -- \
   "$rpfem" run "$src/cases/paper_test2_virtual_rigid.toml" --out "$tmp/o25" \
   --set 'bodies.punch.mesh.corners=[0.0, 10.0, 20.0, 13.52654, 0.0, 16.0, 20.0, 16.0]'
+# A misspelt key is named as such, with the key it most likely meant (a
+# required one was reported missing; an optional one as unknown only).
+sed 's/^height = /heigth = /' "$base" > "$tmp/misspelt.toml"
+expect misspelt-required "unknown key 'bodies.billet.mesh.heigth' (misspelt?); did you mean 'height'?" -- \
+  "$rpfem" run "$tmp/misspelt.toml" --out "$tmp/o26"
+expect misspelt-optional "unknown key 'stepping.output_evry' (misspelt, or not used by this scene and formulation); did you mean 'output_every'?" -- \
+  "$rpfem" run "$base" --out "$tmp/o27" --set stepping.output_evry=2
 exit $fail
