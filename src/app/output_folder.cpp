@@ -1,6 +1,19 @@
 #include "app/output_folder.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
 #include <system_error>
 
 #include "core/types.hpp"
@@ -8,6 +21,124 @@
 namespace fs = std::filesystem;
 
 namespace rpfem {
+
+namespace {
+
+constexpr const char* kLockName = ".rpfem.lock";
+
+// The files a run writes into its folder, and their temporaries.
+const std::vector<std::string>& run_files() {
+  static const std::vector<std::string> names{
+      "result.h5",      "result.xdmf",         "history.csv",      "summary.json",    "events.csv",
+      "result.h5.partial", "result.xdmf.tmp", "history.csv.tmp", "summary.json.tmp", "events.csv.tmp"};
+  return names;
+}
+
+struct HeldLock {
+  std::string path;  // the lock file's
+  int fd;
+};
+std::vector<HeldLock>& held() {
+  static std::vector<HeldLock> locks;
+  return locks;
+}
+
+// Removed while still locked, so that a process that opened it before
+// sees it gone after taking the lock (and takes a new one).
+void release(const HeldLock& h) {
+  ::unlink(h.path.c_str());
+  ::close(h.fd);
+}
+void release_all() {
+  for (const auto& h : held()) release(h);
+  held().clear();
+}
+
+std::string lock_path(const std::string& dir) {
+  std::error_code ec;
+  const fs::path canonical = fs::canonical(dir, ec);
+  return ((ec ? fs::absolute(dir) : canonical) / kLockName).string();
+}
+
+// The pid a lock file holds ("" while its owner has not written it yet).
+std::string pid_in(int fd) {
+  char buf[32] = {};
+  const ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
+  std::string s(buf, n > 0 ? static_cast<std::size_t>(n) : 0);
+  s.erase(std::remove_if(s.begin(), s.end(), [](char c) { return c < '0' || c > '9'; }), s.end());
+  return s;
+}
+
+void lock(const std::string& dir, const std::string& option) {
+  const std::string path = lock_path(dir);
+  for (const auto& h : held())
+    if (h.path == path) return;
+  const std::string where = option + " '" + dir + "': ";
+  for (int attempt = 0; attempt < 40; ++attempt) {
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0)
+      throw InputError(where + "cannot create its lock file " + kLockName + ": " + std::strerror(errno));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      const std::string pid = pid_in(fd);
+      ::close(fd);
+      if (err != EWOULDBLOCK) {
+        // A file system without locks: the folder is used unguarded.
+        std::fprintf(stderr, "rpfem: warning: %scannot be locked (%s); another run into it is not detected\n",
+                     where.c_str(), std::strerror(err));
+        return;
+      }
+      if (pid.empty() && attempt + 1 < 40) {  // its owner is writing its pid
+        ::usleep(25000);
+        continue;
+      }
+      throw InputError(where + "in use by another rpfem process (pid " + (pid.empty() ? "unknown" : pid) +
+                       ", " + kLockName + "); expected a folder no running rpfem writes into");
+    }
+    // Its last owner may have removed it between our open and our lock.
+    struct stat mine {}, now {};
+    if (::fstat(fd, &mine) != 0 || ::stat(path.c_str(), &now) != 0 || mine.st_ino != now.st_ino ||
+        mine.st_dev != now.st_dev) {
+      ::close(fd);
+      continue;
+    }
+    const std::string text = std::to_string(::getpid()) + "\n";
+    if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, text.data(), text.size(), 0) != static_cast<ssize_t>(text.size())) {
+      const int err = errno;
+      ::close(fd);
+      throw InputError(where + "cannot write its lock file " + kLockName + ": " + std::strerror(err));
+    }
+    static const bool at_exit = (std::atexit(release_all), true);
+    (void)at_exit;
+    held().push_back({path, fd});
+    return;
+  }
+  throw InputError(where + "its lock file " + kLockName + " kept changing; expected a folder no running rpfem writes into");
+}
+
+void unlock(const std::string& dir) {
+  const std::string path = lock_path(dir);
+  auto& locks = held();
+  const auto it = std::find_if(locks.begin(), locks.end(), [&](const HeldLock& h) { return h.path == path; });
+  if (it == locks.end()) return;
+  release(*it);
+  locks.erase(it);
+}
+
+// The variant a run folder's summary.json names ("" if none or no summary).
+std::string summary_variant(const fs::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  if (!in) return "";
+  std::ostringstream os;
+  os << in.rdbuf();
+  const std::string text = os.str();
+  static const std::regex key("\"variant\"\\s*:\\s*\"([^\"]*)\"");
+  std::string last;
+  for (std::sregex_iterator it(text.begin(), text.end(), key), end; it != end; ++it) last = (*it)[1];
+  return last;
+}
+
+}  // namespace
 
 void make_output_folder(const std::string& dir, const std::string& option) {
   if (dir.empty()) throw InputError(option + ": expected a folder name, got an empty one");
@@ -17,6 +148,30 @@ void make_output_folder(const std::string& dir, const std::string& option) {
   fs::create_directories(dir, ec);
   if (ec) throw InputError(option + " '" + dir + "': cannot create the output folder: " + ec.message());
   if (!fs::is_directory(dir, ec)) throw InputError(option + " '" + dir + "': not a folder after creating it");
+  lock(dir, option);
+}
+
+void remove_run_results(const std::string& dir) {
+  std::error_code ec;
+  for (const auto& name : run_files()) fs::remove(fs::path(dir) / name, ec);
+}
+
+void remove_stale_variant_runs(const std::string& parent, const std::vector<std::string>& keep) {
+  std::error_code ec;
+  if (!fs::is_directory(parent, ec)) return;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(parent, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_directory(ec) || std::find(keep.begin(), keep.end(), name) != keep.end()) continue;
+    if (summary_variant(entry.path()) == name) stale.push_back(entry.path());
+  }
+  for (const auto& d : stale) {
+    make_output_folder(d.string(), "variant folder");
+    remove_run_results(d.string());
+    fs::remove(d / "run.log", ec);
+    unlock(d.string());
+    fs::remove(d, ec);  // only if nothing else is left in it
+  }
 }
 
 }  // namespace rpfem

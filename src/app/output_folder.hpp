@@ -1,13 +1,36 @@
-// The output folder a command writes into (--out): created if missing. A
-// name that cannot be one (empty, under a file, a file itself, too long,
-// on a read-only or missing file system) is bad input, said so with the
-// option and the system's reason, not an internal error.
+// The output folder a command writes into (--out): created if missing and
+// owned by this process until it exits. A name that cannot be one (empty,
+// under a file, a file itself, too long, on a read-only or missing file
+// system) is bad input, said so with the option and the system's reason,
+// not an internal error; so is a folder another rpfem process owns.
+//
+// Ownership is DIR/.rpfem.lock, locked with flock(2) and holding the
+// owner's pid: the kernel drops the lock when the process ends however it
+// ends (a file left by a killed process is not held, and the next run
+// takes it over), and the file is removed at a normal exit.
 #pragma once
 #include <string>
+#include <vector>
 
 namespace rpfem {
 
-// Throws InputError naming `option` (e.g. "--out") and `dir`.
+// Creates and locks `dir` (again in the same process: nothing). Throws
+// InputError naming `option` (e.g. "--out") and `dir`, and for a folder
+// in use the pid of the process that holds it.
 void make_output_folder(const std::string& dir, const std::string& option = "--out");
+
+// What a run leaves in its folder (result.h5, result.xdmf, history.csv,
+// summary.json, events.csv, and the temporaries they are written under):
+// removed before a run writes, so nothing of a previous run is left to be
+// mixed with the new one's (a run that stops at step 0 writes no
+// result.xdmf). Nothing else in the folder is touched.
+void remove_run_results(const std::string& dir);
+
+// The subfolders of `parent` that hold a variant run (its summary.json
+// names the subfolder as its variant) whose name is not in `keep`: their
+// run files (as above, and the pool's run.log) are removed, then the
+// subfolder if it is left empty. A subfolder another process writes into
+// is bad input (InputError naming it and the pid).
+void remove_stale_variant_runs(const std::string& parent, const std::vector<std::string>& keep);
 
 }  // namespace rpfem

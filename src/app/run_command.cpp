@@ -56,6 +56,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
                 q.min_scaled_jacobian, q.max_aspect_ratio);
 
   catch_interrupts();
+  remove_run_results(out_dir);
   RunObserver obs(scene, out_dir, summary, opt.quiet, monitors);
   const RunOutcome out = run_with_remeshing(prepared, opt.formulation, opt.discretization, obs);
   obs.finish(out);
@@ -80,11 +81,17 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
 }  // namespace
 
 int run_command(const RunOptions& opt) {
+  make_output_folder(opt.out_dir);
   if (opt.variant.empty()) return run_one(opt, nullptr, opt.out_dir);
   CaseFile probe(opt.case_file);
   const std::vector<Variant> variants = read_variants(probe.root());
   if (opt.variant != "all") return run_one(opt, &find_variant(variants, opt.variant, opt.case_file), opt.out_dir);
   if (variants.empty()) throw InputError(opt.case_file + ": --variant all: the case declares no [[variants]]");
+  // The variants a previous run of this command left that the case no
+  // longer declares.
+  std::vector<std::string> names;
+  for (const auto& v : variants) names.push_back(v.name);
+  remove_stale_variant_runs(opt.out_dir, names);
   // Each variant into OUT/NAME; the worst exit code (2 bad input, 3 stopped).
   int worst = 0;
   std::vector<std::string> lines;

@@ -83,7 +83,7 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
   for (const auto& m : monitors_) cols.push_back(m.name);
   history_ = std::make_unique<HistoryWriter>(dir_ + "/history.csv", cols);
   events_path_ = dir_ + "/events.csv";
-  std::ofstream(events_path_, std::ios::trunc) << "step,time,event\n";
+  write_text_atomically(events_path_, "step,time,event\n");
   write_summary();
 }
 

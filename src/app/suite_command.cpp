@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 #include <toml++/toml.h>
@@ -138,6 +139,14 @@ int suite_command(const SuiteOptions& options) {
   make_output_folder(opt.out_dir);
   std::vector<Job> jobs = plan(opt);
   if (jobs.empty()) throw InputError(opt.cases_dir + ": no scene and formulation matched");
+  // Variant runs a previous suite left under a run this one redoes (its
+  // variants gone from the case, or --no-variants now).
+  std::map<std::string, std::vector<std::string>> variants_of;
+  for (const auto& j : jobs) {
+    if (j.variant.empty()) variants_of[j.dir];
+    else variants_of[fs::path(j.dir).parent_path().string()].push_back(j.variant);
+  }
+  for (const auto& [dir, keep] : variants_of) remove_stale_variant_runs(dir, keep);
   std::vector<SweepPlan> studies = plan_studies(opt);
   if (!opt.quiet) {
     std::printf("rpfem suite: results in %s\n", opt.out_dir.c_str());

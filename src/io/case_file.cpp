@@ -8,6 +8,8 @@
 #include <functional>
 #include <sstream>
 
+#include "io/spelling.hpp"
+
 namespace rpfem {
 
 namespace {
@@ -109,7 +111,16 @@ void CaseFile::finish() const {
       for (std::size_t i = 0; i < a->size(); ++i) walk(*a->get(i), p + "." + std::to_string(i));
       return;
     }
-    throw InputError(path_ + ": unknown key '" + p + "' (misspelt, or not used by this scene and formulation)");
+    // The keys read beside it: a misspelling of one of them is named.
+    const std::size_t dot = p.rfind('.');
+    const std::string parent = dot == std::string::npos ? "" : p.substr(0, dot + 1);
+    std::vector<std::string> siblings;
+    for (const auto& v : visited_)
+      if (v.size() > parent.size() && v.compare(0, parent.size(), parent) == 0)
+        siblings.push_back(v.substr(parent.size(), v.find('.', parent.size()) - parent.size()));
+    const std::string near = nearest_spelling(p.substr(parent.size()), siblings);
+    throw InputError(path_ + ": unknown key '" + p + "' (misspelt, or not used by this scene and formulation)" +
+                     (near.empty() ? "" : "; did you mean '" + near + "'?"));
   };
   walk(data_, "");
 }
@@ -139,6 +150,19 @@ void CaseSection::fail(const std::string& key, const std::string& expected) cons
   file_->fail(full(key), expected);
 }
 
+void CaseSection::missing(const std::string& key, const std::string& expected) const {
+  // A key of this table that no reader took and that is a near spelling
+  // of the one missing: the misspelling is the error.
+  std::vector<std::string> unread;
+  for (const auto& k : keys())
+    if (!file_->visited_.count(full(k))) unread.push_back(k);
+  for (const auto& k : unread)
+    if (nearest_spelling(k, {key}) == key)
+      throw InputError(file_->path_ + ": unknown key '" + full(k) + "' (misspelt?); did you mean '" + key + "'? ('" +
+                       full(key) + "' is required)");
+  fail(key, "required, expected " + expected);
+}
+
 bool CaseSection::has(const std::string& key) const { return t_->contains(key); }
 
 void CaseSection::ignore(const std::string& key) {
@@ -166,7 +190,7 @@ std::optional<double> CaseSection::optional_real(const std::string& key, Range r
 
 double CaseSection::real(const std::string& key, std::optional<double> def, Range r, const std::string& unit) {
   if (auto v = optional_real(key, r, unit)) return *v;
-  if (!def) fail(key, "required, expected " + r.describe() + (unit.empty() ? "" : " (" + unit + ")"));
+  if (!def) missing(key, r.describe() + (unit.empty() ? "" : " (" + unit + ")"));
   record(key, toml::value<double>(*def));
   return *def;
 }
@@ -175,7 +199,7 @@ std::vector<double> CaseSection::real_array(const std::string& key, int n, const
   const std::string expect =
       "an array of " + (n < 0 ? std::string("numbers") : std::to_string(n) + " numbers") + ": " + what;
   auto* a = get(key) ? get(key)->as_array() : nullptr;
-  if (!a) fail(key, "required, expected " + expect);
+  if (!a) missing(key, expect);
   std::vector<double> v;
   for (auto& e : *a) {
     auto d = e.value<double>();
@@ -191,7 +215,7 @@ std::vector<double> CaseSection::real_array(const std::string& key, int n, const
 std::vector<std::string> CaseSection::text_array(const std::string& key, const std::string& what) {
   const std::string expect = "an array of strings: " + what;
   auto* a = get(key) ? get(key)->as_array() : nullptr;
-  if (!a) fail(key, "required, expected " + expect);
+  if (!a) missing(key, expect);
   std::vector<std::string> v;
   for (auto& e : *a) {
     auto t = e.value<std::string>();
@@ -206,7 +230,7 @@ int CaseSection::integer(const std::string& key, std::optional<int> def, int lo,
   const std::string expect = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   auto* n = get(key);
   if (!n) {
-    if (!def) fail(key, "required, expected " + expect);
+    if (!def) missing(key, expect);
     record(key, toml::value<int64_t>(*def));
     return *def;
   }
@@ -247,7 +271,7 @@ std::string CaseSection::text(const std::string& key, std::optional<std::string>
   auto* n = get(key);
   std::string v;
   if (!n) {
-    if (!def) fail(key, "required, expected " + expect);
+    if (!def) missing(key, expect);
     v = *def;
   } else {
     if (!n->is_string()) fail(key, "expected " + expect + ", got " + show(*n));
@@ -263,7 +287,7 @@ bool CaseSection::flag(const std::string& key, std::optional<bool> def) {
   auto* n = get(key);
   bool v;
   if (!n) {
-    if (!def) fail(key, "required, expected true or false");
+    if (!def) missing(key, "true or false");
     v = *def;
   } else {
     if (!n->is_boolean()) fail(key, "expected true or false, got " + show(*n));
@@ -282,7 +306,7 @@ std::optional<CaseSection> CaseSection::table(const std::string& key) {
 
 CaseSection CaseSection::required_table(const std::string& key) {
   auto t = table(key);
-  if (!t) fail(key, "required table is missing");
+  if (!t) missing(key, "a table");
   return *t;
 }
 

@@ -70,8 +70,14 @@ class CaseSection {
 
  private:
   friend class CaseFile;
+  // A required key that is absent: a misspelling of it among this table's
+  // unread keys is named first ("unknown key ...; did you mean ...").
+  [[noreturn]] void missing(const std::string& key, const std::string& expected) const;
   CaseSection(CaseFile* f, toml::table* t, std::string path) : file_(f), t_(t), path_(std::move(path)) {}
-  std::string full(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  // The key's whole path; "" names this table itself.
+  std::string full(const std::string& key) const {
+    return path_.empty() ? key : key.empty() ? path_ : path_ + "." + key;
+  }
   toml::node* get(const std::string& key) const;
   void record(const std::string& key, toml::node&& value);
 

@@ -75,14 +75,19 @@ ResultWriter::ResultWriter(const std::string& dir, const Mesh& mesh, const std::
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   std::filesystem::create_directories(dir);
   impl_->dir = dir;
-  const std::string path = dir + "/result.h5";
-  impl_->file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (impl_->file < 0) throw std::runtime_error("cannot create " + path);
+  // Created as result.h5.partial and renamed once its mesh and metadata
+  // are on disk: result.h5 is never a file HDF5 cannot open.
+  const std::string path = dir + "/result.h5", partial = path + ".partial";
+  impl_->file = H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (impl_->file < 0) throw std::runtime_error("cannot create " + partial);
   impl_->write_mesh("/mesh", mesh);
-  H md(H5Gcreate2(impl_->file, "/metadata", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/metadata");
-  set_attr_string(md.id, "json", metadata_json);
-  H st(H5Gcreate2(impl_->file, "/steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/steps");
+  {
+    H md(H5Gcreate2(impl_->file, "/metadata", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/metadata");
+    set_attr_string(md.id, "json", metadata_json);
+    H st(H5Gcreate2(impl_->file, "/steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/steps");
+  }
   check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+  std::filesystem::rename(partial, path);
 }
 
 ResultWriter::~ResultWriter() {
@@ -199,10 +204,9 @@ void ResultWriter::Impl::write_xdmf() const {
 
 HistoryWriter::HistoryWriter(const std::string& path, std::vector<std::string> columns)
     : path_(path), ncols_(columns.size()) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot create " + path);
-  for (std::size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
-  out << "\n";
+  std::string header;
+  for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i];
+  write_text_atomically(path, header + "\n");
 }
 
 void HistoryWriter::write_row(const std::vector<double>& values) {

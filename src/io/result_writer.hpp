@@ -33,7 +33,8 @@ struct StepFields {
 class ResultWriter {
  public:
   // Creates DIR (and parents) if needed, writes the mesh topology and the
-  // run metadata (a JSON text stored as the attribute /metadata/json).
+  // run metadata (a JSON text stored as the attribute /metadata/json)
+  // into DIR/result.h5.partial, flushes it and renames it DIR/result.h5.
   ResultWriter(const std::string& dir, const Mesh& mesh, const std::string& metadata_json);
   ~ResultWriter();
   ResultWriter(const ResultWriter&) = delete;
@@ -52,8 +53,8 @@ class ResultWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-// history.csv: one row per step, columns fixed at construction; each row is
-// flushed as it is written.
+// history.csv: one row per step, columns fixed at construction (the header
+// written atomically); each row is flushed as it is written.
 class HistoryWriter {
  public:
   HistoryWriter(const std::string& path, std::vector<std::string> columns);

@@ -1,7 +1,10 @@
 #include "io/scene_reader.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <thread>
 
 #include "mesh/generate.hpp"
@@ -34,13 +37,54 @@ FlowStressLaw read_material(CaseSection m, std::string& name) {
   return law;
 }
 
+// [run]'s mesh factor (it scales every body's division counts: the
+// suite's --quick, 0.5) and the limits on the whole mesh and the steps,
+// checked before anything that size is built.
+struct RunLimits {
+  double mesh_factor = 1;
+  Index max_elements = 0, max_nodes = 0;
+  int max_steps = 0;
+  Index elements = 0, nodes = 0;  // over the bodies read so far
+};
+
+// The elements a body's mesh will have (`divisions`: how, for the message)
+// against what run.max_elements leaves: the mesh is not generated past it.
+void check_elements(CaseSection& s, double count, const std::string& divisions, const RunLimits& lim) {
+  const double total = count + static_cast<double>(lim.elements);
+  if (total <= static_cast<double>(lim.max_elements)) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "%.6g elements (%s at run.mesh_factor %g), %.6g over all bodies; expected at most run.max_elements "
+                "= %lld (about 4 kB of memory each; raise it in [run] if the machine has it)",
+                count, divisions.c_str(), lim.mesh_factor, total, static_cast<long long>(lim.max_elements));
+  s.fail("", text);
+}
+
 // A division count times the run's mesh factor, rounded, at least `lo`.
 int divisions(CaseSection& s, const std::string& key, std::optional<int> def, int lo, double factor) {
   const int n = s.integer(key, def, lo, 100000);
   return std::max(lo, static_cast<int>(std::lround(n * factor)));
 }
 
-Mesh read_mesh(CaseSection s, const std::string& body, double factor) {
+// The mesh generator's own checks (convex corners, grid points that
+// coincide) name the body only: here they name the file and the key.
+template <class Make>
+Mesh generated(CaseSection& s, const std::string& key, const std::string& body, Make make) {
+  try {
+    return make();
+  } catch (const InputError& e) {
+    std::string what = e.what();
+    const std::string prefix = "mesh of '" + body + "': ";
+    if (what.rfind(prefix, 0) == 0) what.erase(0, prefix.size());
+    s.fail(key, what);
+  }
+}
+
+Mesh read_mesh(CaseSection s, const std::string& body, const RunLimits& lim) {
+  const double factor = lim.mesh_factor;
+  auto grid = [](int a, int b, const char* na, const char* nb) {
+    return std::string(na) + " " + std::to_string(a) + " x " + nb + " " + std::to_string(b);
+  };
   const std::string shape = s.text("shape", std::nullopt, {"rectangle", "quadrilateral", "ring", "disk"});
   Mesh mesh;
   if (shape == "rectangle") {
@@ -51,14 +95,16 @@ Mesh read_mesh(CaseSection s, const std::string& body, double factor) {
     r.height = s.real("height", std::nullopt, Range::positive(), "mm");
     r.nx = divisions(s, "nx", std::nullopt, 1, factor);
     r.ny = divisions(s, "ny", std::nullopt, 1, factor);
-    mesh = make_rectangle(body, r);
+    check_elements(s, double(r.nx) * r.ny, grid(r.nx, r.ny, "nx", "ny"), lim);
+    mesh = generated(s, "", body, [&] { return make_rectangle(body, r); });
   } else if (shape == "quadrilateral") {
     QuadrilateralSpec q;
     const std::vector<double> c = s.real_array("corners", 8, "x, y of the 4 corners (mm), counter-clockwise");
     for (int i = 0; i < 4; ++i) q.corners[i] = Vec2(c[2 * i], c[2 * i + 1]);
     q.nx = divisions(s, "nx", std::nullopt, 1, factor);
     q.ny = divisions(s, "ny", std::nullopt, 1, factor);
-    mesh = make_quadrilateral(body, q);
+    check_elements(s, double(q.nx) * q.ny, grid(q.nx, q.ny, "nx", "ny"), lim);
+    mesh = generated(s, "corners", body, [&] { return make_quadrilateral(body, q); });
   } else if (shape == "ring") {
     RingSpec r;
     r.inner_radius = s.real("inner_radius", std::nullopt, Range::positive(), "mm");
@@ -67,7 +113,8 @@ Mesh read_mesh(CaseSection s, const std::string& body, double factor) {
     r.height = s.real("height", std::nullopt, Range::positive(), "mm");
     r.nr = divisions(s, "nr", std::nullopt, 1, factor);
     r.ny = divisions(s, "ny", std::nullopt, 1, factor);
-    mesh = make_ring(body, r);
+    check_elements(s, double(r.nr) * r.ny, grid(r.nr, r.ny, "nr", "ny"), lim);
+    mesh = generated(s, "", body, [&] { return make_ring(body, r); });
   } else {
     DiskSpec d;
     d.radius = s.real("radius", std::nullopt, Range::positive(), "mm");
@@ -76,7 +123,10 @@ Mesh read_mesh(CaseSection s, const std::string& body, double factor) {
     d.part = part == "half" ? DiskPart::Half : part == "upper_quarter" ? DiskPart::UpperQuarter : DiskPart::LowerQuarter;
     d.n = divisions(s, "n", 8, 1, factor);
     d.layers = divisions(s, "layers", 8, 1, factor);
-    mesh = make_disk(body, d);
+    // Per quarter an n x n block and two layers x n blocks.
+    const double quarter = double(d.n) * d.n + 2.0 * d.layers * d.n;
+    check_elements(s, (d.part == DiskPart::Half ? 2 : 1) * quarter, grid(d.n, d.layers, "n", "layers"), lim);
+    mesh = generated(s, "", body, [&] { return make_disk(body, d); });
   }
   return mesh;
 }
@@ -126,10 +176,9 @@ std::vector<std::string> side_list(CaseSection& c, const std::string& key, const
   return out;
 }
 
-// [run]: name, description, geometry, formulation, tolerances. Returns the
-// mesh factor, which scales every body's division counts (the suite's
-// --quick: 0.5).
-double read_run(CaseSection run, const std::string& file, Scene& sc) {
+// [run]: name, description, geometry, formulation, tolerances, the mesh
+// factor and the limits.
+RunLimits read_run(CaseSection run, const std::string& file, Scene& sc) {
   sc.name = run.name("name", std::filesystem::path(file).stem().string());
   sc.description = run.text("description", "");
   const std::string geom = run.text("geometry", std::nullopt, {"axisymmetric", "plane_strain"});
@@ -137,16 +186,26 @@ double read_run(CaseSection run, const std::string& file, Scene& sc) {
   sc.formulation = run.text("formulation", "none");
   if (run.has("suite_formulations"))
     sc.suite_formulations = run.text_array("suite_formulations", "the formulations `rpfem suite` runs on this scene");
-  const double mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
+  RunLimits lim;
+  lim.mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
   sc.penetration_tolerance =
       run.real("penetration_tolerance", 1e-3, Range::positive(), "largest penetration / element size accepted");
-  return mesh_factor;
+  constexpr int kMost = std::numeric_limits<int>::max();
+  lim.max_elements = run.integer("max_elements", 2000000, 1, kMost);
+  lim.max_nodes = run.integer("max_nodes", 2500000, 1, kMost);
+  lim.max_steps = run.integer("max_steps", 10000000, 1, kMost);
+  return lim;
 }
 
 // A body's generated mesh, rejected if an element is inverted or, in
 // axisymmetry, the body reaches r < 0.
-Mesh read_checked_mesh(CaseSection& b, const std::string& name, double mesh_factor, Geometry geometry) {
-  Mesh m = read_mesh(b.required_table("mesh"), name, mesh_factor);
+Mesh read_checked_mesh(CaseSection& b, const std::string& name, RunLimits& lim, Geometry geometry) {
+  Mesh m = read_mesh(b.required_table("mesh"), name, lim);
+  lim.elements += m.num_elements(), lim.nodes += m.num_nodes();
+  if (lim.nodes > lim.max_nodes)
+    b.fail("mesh", std::to_string(m.num_nodes()) + " nodes, " + std::to_string(lim.nodes) +
+                       " over all bodies; expected at most run.max_nodes = " + std::to_string(lim.max_nodes) +
+                       " (raise it in [run] if the machine has the memory)");
   const MeshQuality q = mesh_quality(m);
   if (!(q.min_scaled_jacobian > 0))
     b.fail("mesh", "the generated mesh has an inverted or degenerate element (min scaled Jacobian " +
@@ -182,7 +241,7 @@ void read_body_loads(CaseSection& b, const std::string& name, Scene& sc) {
 }
 
 // [bodies.NAME]: material, mesh (appended to sc.mesh), velocities, tractions.
-void read_bodies(CaseSection& root, double mesh_factor, Scene& sc) {
+void read_bodies(CaseSection& root, RunLimits& lim, Scene& sc) {
   CaseSection bodies = root.required_table("bodies");
   if (bodies.keys().empty()) bodies.fail("", "at least one body is required");
   for (const auto& name : bodies.keys()) {
@@ -193,7 +252,7 @@ void read_bodies(CaseSection& root, double mesh_factor, Scene& sc) {
     CaseSection mat = b.required_table("material");
     spec.law = read_material(mat, spec.material_name);
     spec.alpha_relative = mat.optional_real("alpha", Range::positive(), "relative, replaces solver.alpha for this body");
-    sc.mesh.append(read_checked_mesh(b, name, mesh_factor, sc.geometry));
+    sc.mesh.append(read_checked_mesh(b, name, lim, sc.geometry));
     sc.bodies.push_back(spec);
     read_body_loads(b, name, sc);
   }
@@ -327,9 +386,18 @@ SolverSpec read_solver(CaseSection solver) {
 
 // [stepping]: stroke, increment, the reference velocity group or die
 // (default: the first velocity group, else the first die), cuts, output.
-void read_stepping(CaseSection st, Scene& sc) {
+void read_stepping(CaseSection st, int max_steps, Scene& sc) {
   sc.stepping.end_stroke = st.real("end_stroke", std::nullopt, Range::positive(), "mm");
   sc.stepping.stroke_increment = st.real("stroke_increment", std::nullopt, {0, sc.stepping.end_stroke, true, false}, "mm");
+  const double steps = std::ceil(sc.stepping.end_stroke / sc.stepping.stroke_increment - 1e-9);
+  if (!(steps <= max_steps)) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "end_stroke / stroke_increment = %.6g steps; expected at most run.max_steps = %d (a larger "
+                  "increment, or raise run.max_steps)",
+                  steps, max_steps);
+    st.fail("stroke_increment", text);
+  }
   const std::string def_ref = !sc.velocities.empty() ? sc.velocities.front().name
                               : !sc.dies.empty()      ? sc.dies.front().name
                                                       : std::string();
@@ -388,13 +456,13 @@ Scene read_scene(CaseFile& file) {
   Scene sc;
   sc.file = file.path();
   CaseSection root = file.root();
-  const double mesh_factor = read_run(root.required_table("run"), file.path(), sc);
-  read_bodies(root, mesh_factor, sc);
+  RunLimits lim = read_run(root.required_table("run"), file.path(), sc);
+  read_bodies(root, lim, sc);
   read_symmetry(root, sc);
   read_dies(root, sc);
   for (CaseSection c : root.table_array("contact_pairs")) sc.contact_pairs.push_back(read_contact_pair(c, sc));
   sc.solver = read_solver(root.section("solver"));
-  read_stepping(root.required_table("stepping"), sc);
+  read_stepping(root.required_table("stepping"), lim.max_steps, sc);
   read_remesh(root.section("remesh"), sc);
   return sc;
 }

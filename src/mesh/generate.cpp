@@ -77,7 +77,10 @@ Mesh mesh_blocks(const std::string& body, const std::vector<Block>& blocks) {
         if (j < b.n2) h = std::min(h, (g[(j + 1) * (b.n1 + 1) + i] - p).norm());
       }
   }
-  if (!(h > 0)) throw InputError("mesh of '" + body + "': zero-size element (check the dimensions)");
+  if (!(h > 0))
+    throw InputError("mesh of '" + body +
+                     "': zero-size element: grid points coincide in double precision; expected dimensions large "
+                     "enough against the coordinates for these divisions");
 
   Mesh m;
   m.body_names = {body};
@@ -197,8 +200,13 @@ Mesh make_rectangle(const std::string& body, const RectangleSpec& s) {
 Mesh make_quadrilateral(const std::string& body, const QuadrilateralSpec& s) {
   const auto& c = s.corners;
   for (int i = 0; i < 4; ++i)
-    if (!(cross(c[(i + 1) % 4] - c[i], c[(i + 2) % 4] - c[(i + 1) % 4]) > 0))
-      throw InputError("mesh of '" + body + "': the corners must make a convex quadrilateral, counter-clockwise");
+    if (!(cross(c[(i + 1) % 4] - c[i], c[(i + 2) % 4] - c[(i + 1) % 4]) > 0)) {
+      const int k = (i + 1) % 4;
+      throw InputError("mesh of '" + body + "': corner " + std::to_string(k + 1) + " (" + std::to_string(c[k](0)) +
+                       ", " + std::to_string(c[k](1)) +
+                       ") turns clockwise or not at all; expected a convex quadrilateral, counter-clockwise from "
+                       "the bottom-left corner");
+    }
   return mesh_blocks(body, {{s.nx, s.ny, line(c[0], c[1]), line(c[1], c[2]), line(c[3], c[2]), line(c[0], c[3]),
                              {"bottom", "right", "top", "left"}}});
 }

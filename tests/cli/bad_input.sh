@@ -70,4 +70,27 @@ expect body-name "key 'bodies.bil,let': the table's name: expected a name" -- "$
 expect monitor-name "key 'monitors.0.name': expected a name of letters, digits" -- \
   "$rpfem" run "$src/cases/upsetting_friction.toml" --out "$tmp/o18" --set 'monitors.0.name=bulge,radius'
 expect case-is-folder "cases: a folder; expected a case file" -- "$rpfem" run "$src/cases" --out "$tmp/o19"
+# Limits on the whole mesh and the step count, before anything that size
+# is built (nx = ny = 1e5 ran out of memory after 8 GB).
+expect max-elements "key 'bodies.billet.mesh': 1e+10 elements (nx 100000 x ny 100000 at run.mesh_factor 1), 1e+10 over all bodies; expected at most run.max_elements = 2000000" -- \
+  "$rpfem" run "$base" --out "$tmp/o20" --set bodies.billet.mesh.nx=100000 --set bodies.billet.mesh.ny=100000
+expect max-elements-factor "key 'bodies.billet.mesh': 6400 elements (nx 80 x ny 80 at run.mesh_factor 4), 6400 over all bodies; expected at most run.max_elements = 5000" -- \
+  "$rpfem" run "$base" --out "$tmp/o21" --set run.mesh_factor=4.0 --set run.max_elements=5000
+expect max-nodes "key 'bodies.billet.mesh': 1681 nodes, 1681 over all bodies; expected at most run.max_nodes = 1000" -- \
+  "$rpfem" run "$base" --out "$tmp/o22" --set bodies.billet.mesh.nx=40 --set bodies.billet.mesh.ny=40 --set run.max_nodes=1000
+expect max-steps "key 'stepping.stroke_increment': end_stroke / stroke_increment = 5e+12 steps; expected at most run.max_steps = 10000000" -- \
+  "$rpfem" run "$base" --out "$tmp/o23" --set stepping.stroke_increment=1e-12
+# The mesh generator's errors name the file and the key.
+expect zero-size-element "upsetting_frictionless_axisym.toml: key 'bodies.billet.mesh': zero-size element" -- \
+  "$rpfem" run "$base" --out "$tmp/o24" --set bodies.billet.mesh.x0=1e20
+expect quadrilateral-corners "paper_test2_virtual_rigid.toml: key 'bodies.punch.mesh.corners': corner 3 (0.000000, 16.000000) turns clockwise" -- \
+  "$rpfem" run "$src/cases/paper_test2_virtual_rigid.toml" --out "$tmp/o25" \
+  --set 'bodies.punch.mesh.corners=[0.0, 10.0, 20.0, 13.52654, 0.0, 16.0, 20.0, 16.0]'
+# A misspelt key is named as such, with the key it most likely meant (a
+# required one was reported missing; an optional one as unknown only).
+sed 's/^height = /heigth = /' "$base" > "$tmp/misspelt.toml"
+expect misspelt-required "unknown key 'bodies.billet.mesh.heigth' (misspelt?); did you mean 'height'?" -- \
+  "$rpfem" run "$tmp/misspelt.toml" --out "$tmp/o26"
+expect misspelt-optional "unknown key 'stepping.output_evry' (misspelt, or not used by this scene and formulation); did you mean 'output_every'?" -- \
+  "$rpfem" run "$base" --out "$tmp/o27" --set stepping.output_evry=2
 exit $fail
