@@ -21,6 +21,7 @@ void add(RunOutcome& run, const RunOutcome& more) {
   run.total_cuts += more.total_cuts;
   run.assembly_seconds += more.assembly_seconds, run.analyze_seconds += more.analyze_seconds;
   run.factor_seconds += more.factor_seconds, run.solve_seconds += more.solve_seconds;
+  run.residual_seconds += more.residual_seconds, run.contact_seconds += more.contact_seconds;
   run.pattern_builds += more.pattern_builds, run.factorizations += more.factorizations;
   run.cholesky_fallbacks += more.cholesky_fallbacks;
   run.min_tangent_rcond = std::min(run.min_tangent_rcond, more.min_tangent_rcond);

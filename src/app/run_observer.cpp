@@ -244,8 +244,12 @@ std::string RunObserver::finish(const RunOutcome& out) {
   summary_.insert_or_assign("max_abs_volume_change", max_volume_change_);
   summary_.insert_or_assign("min_scaled_jacobian", min_quality_);
   summary_.insert_or_assign(
-      "timings_s", toml::table{{"assembly", out.assembly_seconds}, {"symbolic_analysis", out.analyze_seconds},
-                               {"factorization", out.factor_seconds}, {"triangular_solves", out.solve_seconds}});
+      "timings_s", toml::table{{"assembly", out.assembly_seconds},
+                               {"residual", out.residual_seconds},
+                               {"contact", out.contact_seconds},
+                               {"symbolic_analysis", out.analyze_seconds},
+                               {"factorization", out.factor_seconds},
+                               {"triangular_solves", out.solve_seconds}});
   summary_.insert_or_assign("linear_solver", toml::table{{"pattern_builds", out.pattern_builds},
                                                           {"factorizations", out.factorizations},
                                                           {"cholesky_fallbacks", out.cholesky_fallbacks}});

@@ -12,6 +12,13 @@ namespace rpfem {
 
 namespace {
 
+// Adds the seconds since `t0` to `total` and restarts t0.
+void lap(std::chrono::steady_clock::time_point& t0, double& total) {
+  const auto now = std::chrono::steady_clock::now();
+  total += std::chrono::duration<double>(now - t0).count();
+  t0 = now;
+}
+
 // Sinks for the contact terms.
 struct EnergySink : TermSink {
   double total = 0;
@@ -107,6 +114,7 @@ RigidPlasticInput StepProblem::element_input(Index e, const std::vector<Vec2>& v
 }
 
 double StepProblem::energy(const Vec& u) const {
+  auto t0 = std::chrono::steady_clock::now();
   std::vector<Vec2> v;
   ws_.dofs.expand(u, v);
   const Index ne = view_.mesh->num_elements();
@@ -116,12 +124,15 @@ double StepProblem::energy(const Vec& u) const {
   double e = 0;
   for (Index el = 0; el < ne; ++el) e += pi[el];
   for (std::size_t i = 0; i < v.size(); ++i) e -= fext_[i].dot(v[i]);
+  lap(t0, ws_.residual_seconds);
   EnergySink sink;
   contact_.add_terms(view_, v, sink);
+  lap(t0, ws_.contact_seconds);
   return e + sink.total;
 }
 
 double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const {
+  auto t0 = std::chrono::steady_clock::now();
   F.assign(v.size(), Vec2::Zero());
   const Index ne = view_.mesh->num_elements();
   std::vector<Vec8>& grad = ws_.element_forces;
@@ -138,12 +149,14 @@ double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& 
     scale2 += grad[el].squaredNorm();
   }
   for (std::size_t i = 0; i < v.size(); ++i) F[i] -= fext_[i];
+  lap(t0, ws_.residual_seconds);
   std::vector<Index> nodes;
   contact_.force_nodes(view_, nodes);
   NodeForces nf;
   for (Index n : nodes) nf.force[n] = F[n];
   ForceSink sink(F, nodes.empty() ? nullptr : &nf);
   contact_.add_terms(view_, v, sink);
+  lap(t0, ws_.contact_seconds);
   return std::max(std::sqrt(scale2), force_floor_);
 }
 
@@ -159,7 +172,7 @@ void StepProblem::residual(const Vec& u, Vec& R, double& scale) const {
 }
 
 const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
-  const auto t0 = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
   std::vector<Vec2> v;
   ws_.dofs.expand(u, v);
   ws_.assembler.set_zero();
@@ -195,9 +208,10 @@ const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
       }
     }
   }
+  lap(t0, ws_.assembly_seconds);
   MatrixSink sink(ws_.assembler, nf);
   contact_.add_terms(view_, v, sink);
-  ws_.assembly_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  lap(t0, ws_.contact_seconds);
   return ws_.assembler.matrix();
 }
 

@@ -34,7 +34,9 @@ struct SolverWorkspace {
   std::uint64_t layout = 0;
   bool has_pattern = false;
   int pattern_builds = 0;
-  double assembly_seconds = 0;
+  double assembly_seconds = 0;  // s: the elements' tangent, scattered into the matrix
+  double residual_seconds = 0;  // s: the elements' forces and energies (residual, line search)
+  double contact_seconds = 0;   // s: the contact's terms, rows and settling
   int threads = 1;                    // of the element loops
   std::vector<ElementTerms> terms;    // per element, the tangent's element terms
   std::vector<double> element_values; // per element, energies or squared force norms

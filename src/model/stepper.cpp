@@ -1,6 +1,7 @@
 #include "model/stepper.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -13,6 +14,10 @@
 namespace rpfem {
 
 namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 std::string sci(double x) {
   char buf[32];
@@ -176,7 +181,9 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
   problem.set_force_floor(derived_.force_floor);
+  const auto contact_start = std::chrono::steady_clock::now();
   contact_.begin_step(sv);
+  ws_.contact_seconds += seconds_since(contact_start);
   ws_.linear.reset_rcond();
   // A failed solve keeps the least condition estimate it met (the stop
   // reason reports it).
@@ -191,7 +198,9 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   bool warm = false;  // the pass re-solves after a small change (StepCheck::warm)
   for (sol.passes = 1; sol.passes <= kMaxPasses; ++sol.passes) {
     std::vector<NodeConstraint> cons = bc_.constraints;
+    const auto constraints_start = std::chrono::steady_clock::now();
     contact_.constraints(sv, cons);
+    ws_.contact_seconds += seconds_since(constraints_start);
     try {
       problem.set_constraints(cons);
     } catch (const std::invalid_argument& e) {
@@ -219,7 +228,9 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     if (!r.converged) return fail(r.reason);
     problem.dofs().expand(u, v);
     problem.nodal_forces(v, sol.F);
+    const auto settle_start = std::chrono::steady_clock::now();
     StepCheck check = contact_.settle(sv, v, sol.F);
+    ws_.contact_seconds += seconds_since(settle_start);
     sol.events.insert(sol.events.end(), check.events.begin(), check.events.end());
     warm = check.warm;
     if (!check.resolve) break;
@@ -388,6 +399,8 @@ RunOutcome Runner::finish() {
                             " step(s); raise the contact penalty (formulations.penalty.beta_factor)");
   const LinearSolveStats& ls = ws_.linear.stats();
   out_.assembly_seconds = ws_.assembly_seconds;
+  out_.residual_seconds = ws_.residual_seconds;
+  out_.contact_seconds = ws_.contact_seconds;
   out_.analyze_seconds = ls.analyze_seconds;
   out_.factor_seconds = ls.factor_seconds;
   out_.solve_seconds = ls.solve_seconds;

@@ -95,6 +95,7 @@ struct RunOutcome {
   int total_newton_iterations = 0;
   int total_cuts = 0;
   double assembly_seconds = 0, analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
+  double residual_seconds = 0, contact_seconds = 0;  // model/step_problem.hpp's SolverWorkspace
   int pattern_builds = 0, factorizations = 0, cholesky_fallbacks = 0;
   double min_tangent_rcond = INFINITY;  // over the recorded steps
   // What the run met that makes its results doubtful, as sentences for the
