@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include <toml++/toml.h>
@@ -14,6 +15,15 @@ namespace rpfem {
 
 int verify_command(const std::string& suite_dir, const std::string& checks_file, bool quiet,
                    const std::vector<std::string>& only_scenes) {
+  // A folder `rpfem suite` wrote holds suite.json; anything else is bad
+  // input (each check would otherwise fail as "no run").
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(suite_dir, ec))
+    throw InputError("verify: '" + suite_dir + "': no such folder; expected the --out folder of `rpfem suite`");
+  if (!fs::is_regular_file(fs::path(suite_dir) / "suite.json", ec))
+    throw InputError("verify: '" + suite_dir + "' is not a suite's folder (no suite.json); expected the --out " +
+                     "folder of `rpfem suite`");
   std::vector<SuiteCheck> checks = read_suite_checks(checks_file);
   if (!only_scenes.empty()) {
     const auto ran = [&](const std::string& s) {

@@ -93,4 +93,9 @@ expect misspelt-required "unknown key 'bodies.billet.mesh.heigth' (misspelt?); d
   "$rpfem" run "$tmp/misspelt.toml" --out "$tmp/o26"
 expect misspelt-optional "unknown key 'stepping.output_evry' (misspelt, or not used by this scene and formulation); did you mean 'output_every'?" -- \
   "$rpfem" run "$base" --out "$tmp/o27" --set stepping.output_evry=2
+# verify needs a suite's folder (every check failed as "no run", exit 1).
+expect verify-missing "verify: '$tmp/nosuchdir': no such folder" -- "$rpfem" verify "$tmp/nosuchdir"
+mkdir -p "$tmp/notasuite"
+expect verify-not-a-suite "verify: '$tmp/notasuite' is not a suite's folder (no suite.json)" -- \
+  "$rpfem" verify "$tmp/notasuite"
 exit $fail
