@@ -174,9 +174,11 @@ int main(int argc, char** argv) {
     if (*cal_cmd) return rpfem::calibrate_command(cal);
     if (*verify_cmd) return rpfem::verify_command(verify.dir, verify.checks_file, verify.quiet);
   } catch (const rpfem::InputError& e) {
+    std::fflush(stdout);  // what was said before the error comes first
     std::fprintf(stderr, "rpfem: error: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {
+    std::fflush(stdout);
     std::fprintf(stderr, "rpfem: internal error: %s\n", e.what());
     return 1;
   }

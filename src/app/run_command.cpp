@@ -60,6 +60,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
   RunObserver obs(scene, out_dir, summary, opt.quiet, monitors);
   const RunOutcome out = run_with_remeshing(prepared, opt.formulation, opt.discretization, obs);
   obs.finish(out);
+  std::fflush(stdout);  // the progress lines before the warnings and errors
   for (const auto& w : out.warnings) std::fprintf(stderr, "rpfem: warning: %s\n", w.c_str());
   if (out.interrupted) {
     const int signo = interrupt_signal();
@@ -73,8 +74,9 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
     return 3;
   }
   if (!opt.quiet)
-    std::printf("finished: %d steps, %d Newton iterations; results in %s\n", out.steps,
-                out.total_newton_iterations, out_dir.c_str());
+    std::printf("finished: %d steps, %d Newton iterations; final load %s; %zu warning%s; results in %s\n", out.steps,
+                out.total_newton_iterations, obs.final_loads_text().c_str(), out.warnings.size(),
+                out.warnings.size() == 1 ? "" : "s", out_dir.c_str());
   return 0;
 }
 

@@ -226,6 +226,19 @@ void RunObserver::write_summary() {
   write_text_atomically(dir_ + "/summary.json", to_json(summary_) + "\n");
 }
 
+std::string RunObserver::final_loads_text() const {
+  std::string text;
+  for (std::size_t i = 0; i < load_names_.size() && i < last_.loads.size(); ++i) {
+    const Vec2& F = last_.loads[i];
+    const bool y = std::abs(F(1)) >= std::abs(F(0));
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s%s.F%c %.4g kN", text.empty() ? "" : ", ", load_names_[i].c_str(), y ? 'y' : 'x',
+                  1e-3 * (y ? F(1) : F(0)));
+    text += buf;
+  }
+  return text;
+}
+
 std::string RunObserver::finish(const RunOutcome& out) {
   if (last_field_step_ != last_step_ && last_.x.size()) {
     writer_->write_step(fields(last_));

@@ -37,6 +37,9 @@ class RunObserver final : public StepObserver {
   std::vector<Index> pinned_nodes() const;
   // Completes summary.json with the outcome; returns its text.
   std::string finish(const RunOutcome& out);
+  // The last recorded step's loads, "name Fx/Fy kN" for the run's last
+  // line (the larger component of each, kN).
+  std::string final_loads_text() const;
   bool stop_requested() const override { return interrupt_signal() != 0; }
   const std::string& dir() const { return dir_; }
 

@@ -28,4 +28,11 @@ err=$("$rpfem" run "$case" --variant beta_1e12 --out "$tmp/high" --quiet 2>&1 >/
 echo "$err" | grep -q "run stopped: .*the tangent is ill-conditioned (rcond [0-9.e+-]*, below 100 x machine epsilon).*beta_factor" ||
   fail "beta 1e12: reason: $err"
 grep -q '"reason" *: *".*ill-conditioned' "$tmp/high/summary.json" || fail "beta 1e12: summary.json reason"
-echo "ok: warnings recorded and printed, ill-conditioning reported"
+# The last line of a run (not --quiet) gives the final loads in kN and the
+# number of warnings.
+last=$("$rpfem" run "$case" --variant beta_1e-3 --out "$tmp/last" 2>/dev/null | tail -1)
+echo "$last" | grep -q "^finished: [0-9]* steps, [0-9]* Newton iterations; final load .*\.Fy -\?[0-9.]* kN; 1 warning; results in " ||
+  fail "last line: $last"
+last=$("$rpfem" run "$case" --variant beta_1e-3 --out "$tmp/last0" --set run.penetration_tolerance=1e-2 2>/dev/null | tail -1)
+echo "$last" | grep -q "; 0 warnings; results in " || fail "last line without warnings: $last"
+echo "ok: warnings recorded and printed, ill-conditioning reported, the last line"
