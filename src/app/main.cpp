@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "app/calibrate_command.hpp"
+#include "app/data_dir.hpp"
 #include "app/run_command.hpp"
 #include "app/suite_command.hpp"
 #include "app/sweep_command.hpp"
@@ -62,9 +63,9 @@ void pool_options(CLI::App* cmd, Options& o, const std::string& cases_help, cons
 
 // `rpfem suite`: every scene and the studies, then the report.
 CLI::App* add_suite(CLI::App& app, rpfem::SuiteOptions& suite) {
-  suite.cases_dir = std::string(RPFEM_SOURCE_DIR) + "/cases";
+  suite.cases_dir = rpfem::data_dir() + "/cases";
   suite.out_dir = "out";
-  suite.checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
+  suite.checks_file = rpfem::data_dir() + "/verification/checks.toml";
   auto* suite_cmd = app.add_subcommand(
       "suite", "Run every scene with every formulation that applies and the studies of CASES/studies, then the report");
   pool_options(suite_cmd, suite, "folder of case files (its studies/ folder: the studies)",
@@ -100,7 +101,7 @@ CLI::App* add_sweep(CLI::App& app, rpfem::SweepOptions& sweep, const std::string
 
 // `rpfem verify`: the acceptance checks on a suite folder.
 struct VerifyOptions {
-  std::string dir, checks_file = std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml";
+  std::string dir, checks_file = rpfem::data_dir() + "/verification/checks.toml";
   bool quiet = false;
 };
 CLI::App* add_verify(CLI::App& app, VerifyOptions& v) {

@@ -12,6 +12,7 @@
 #include <toml++/toml.h>
 
 #include "app/case_folder.hpp"
+#include "app/data_dir.hpp"
 #include "app/run_engine.hpp"
 #include "app/subprocess.hpp"
 #include "app/suite_studies.hpp"
@@ -187,7 +188,7 @@ int suite_command(const SuiteOptions& options) {
     std::printf("studies: %d run%s stopped early, recorded in the tables (the exit code does not count them)\n",
                 study_stops, study_stops == 1 ? "" : "s");
   if (opt.report) {
-    const std::string script = std::string(RPFEM_SOURCE_DIR) + "/reports/make_report.py";
+    const std::string script = data_dir() + "/reports/make_report.py";
     const std::string cmd = "/usr/bin/python3 " + shell_quote(script) + " " + shell_quote(opt.out_dir) +
                             " > /dev/null";
     if (run_shell(cmd) != 0) {
