@@ -78,16 +78,21 @@ class Run:
         self.history = read_history(hist) if os.path.exists(hist) else None
         self.summary = {}
         self.steps = []
+        self.has_result = False  # result.h5 is there and opens
         path = os.path.join(folder, "summary.json")
         if os.path.exists(path):
             with open(path) as f:
                 self.summary = json.load(f)
-        if os.path.exists(self.h5_path):
-            with self._open() as f:
-                if "steps" in f:
-                    self.steps = sorted(int(k) for k in f["steps"] if k.isdigit())
-                if not self.summary and "metadata" in f and "json" in f["metadata"].attrs:
-                    self.summary = json.loads(_text(f["metadata"].attrs["json"]))
+        try:
+            f = self._open()
+        except OSError:  # missing, or not (yet) an HDF5 file
+            return
+        with f:
+            self.has_result = True
+            if "steps" in f:
+                self.steps = sorted(int(k) for k in f["steps"] if k.isdigit())
+            if not self.summary and "metadata" in f and "json" in f["metadata"].attrs:
+                self.summary = json.loads(_text(f["metadata"].attrs["json"]))
 
     def _open(self):
         import h5py
@@ -123,15 +128,25 @@ class Run:
         with self._open() as f:
             return _text(f[self._group(step)].attrs.get("mesh", "/mesh"))
 
+    @staticmethod
+    def _mesh(m, x=None):
+        names = _text(m.attrs.get("body_names", "")).split(";")
+        x = m["initial_coordinates"][:] if x is None else x
+        return Mesh(x, m["connectivity"][:].astype(int), m["element_body"][:].astype(int), names)
+
     def mesh(self, step, deformed=True):
         """The mesh of a recorded step (a Mesh): its coordinates at that
         step (mm; the mesh's initial ones if not deformed)."""
         with self._open() as f:
             g = f[self._group(step)]
             m = f[_text(g.attrs.get("mesh", "/mesh"))]
-            x = g["coordinates"][:] if deformed else m["initial_coordinates"][:]
-            names = _text(m.attrs.get("body_names", "")).split(";")
-            return Mesh(x, m["connectivity"][:].astype(int), m["element_body"][:].astype(int), names)
+            return self._mesh(m, g["coordinates"][:] if deformed else None)
+
+    def initial_mesh(self):
+        """The run's first mesh at the start (a Mesh, coordinates in mm),
+        whether or not a step is on record."""
+        with self._open() as f:
+            return self._mesh(f["mesh"])
 
     def _path(self, g, name):
         for p in (name, "node/" + name, "element/" + name):
