@@ -80,7 +80,8 @@ struct ResultWriter::Impl {
   std::string dir;
   hid_t file = -1;
   std::vector<XdmfMesh> meshes;  // the last one current
-  std::vector<XdmfStep> steps;
+  std::string paraview;             // result.xdmf's step grids
+  std::vector<std::string> meshio;  // per mesh: its meshio file's step grids
   std::vector<int> step_numbers;
   std::vector<double> times;
   std::vector<std::pair<std::string, Index>> die_points;  // per die written: its polyline's points
@@ -147,7 +148,7 @@ ResultWriter::~ResultWriter() {
   if (impl_->file >= 0) H5Fclose(impl_->file);
 }
 
-int ResultWriter::steps_written() const { return static_cast<int>(impl_->steps.size()); }
+int ResultWriter::steps_written() const { return static_cast<int>(impl_->step_numbers.size()); }
 
 void ResultWriter::set_mesh(const Mesh& mesh, int first_step) {
   const std::string name = numbered_group("/meshes", first_step);
@@ -164,7 +165,7 @@ void ResultWriter::update_metadata(const std::string& json) {
 
 // Each body's share of the step's fields, as views of them: bodies/<name>/...
 void ResultWriter::Impl::write_bodies(hid_t step, const std::string& name, const XdmfStep& s) const {
-  const XdmfMesh& m = meshes[s.mesh];
+  const XdmfMesh& m = meshes.back();
   H bodies = group(step, "bodies");
   for (const XdmfBody& b : m.bodies) {
     H bg = group(bodies.id, b.name);
@@ -245,7 +246,7 @@ void ResultWriter::write_step(const StepFields& f) {
   write_doubles(g.id, "strain_rate", *f.strain_rate, 1, "1/s");
   write_doubles(g.id, "strain", *f.strain, 1, "1");
   write_doubles(g.id, "mean_stress", *f.mean_stress, 1, "MPa");
-  XdmfStep s{f.step, f.time, f.stroke, impl_->meshes.size() - 1, {}, {}, f.globals, {}};
+  XdmfStep s{f.step, f.time, f.stroke, {}, {}, f.globals, {}};
   if (!f.node_scalars.empty()) {
     H n = group(g.id, "node");
     for (const auto& [k, d] : f.node_scalars) write_doubles(n.id, k, d, 1, extra_units(k)), s.node_extra.push_back(k);
@@ -257,7 +258,9 @@ void ResultWriter::write_step(const StepFields& f) {
   }
   impl_->write_bodies(g.id, name, s);
   impl_->write_dies(g.id, f, s);
-  impl_->steps.push_back(s);
+  impl_->paraview += paraview_xdmf(mesh, s);
+  impl_->meshio.resize(impl_->meshes.size());
+  impl_->meshio.back() += meshio_xdmf(mesh, s);
   impl_->step_numbers.push_back(f.step);
   impl_->times.push_back(f.time);
   // The index of recorded steps and their times, rewritten each step.
@@ -273,9 +276,8 @@ void ResultWriter::write_step(const StepFields& f) {
 // result.xdmf whole, and the meshio file of the current mesh (the earlier
 // meshes' are complete).
 void ResultWriter::Impl::write_xdmf() const {
-  write_text_atomically(dir + "/result.xdmf", paraview_xdmf(meshes, steps));
-  const std::size_t m = meshes.size() - 1;
-  write_text_atomically(dir + "/" + meshio_file_name(meshes[m].group), meshio_xdmf(meshes, steps, m));
+  write_text_atomically(dir + "/result.xdmf", kXdmfHead + paraview + kXdmfTail);
+  write_text_atomically(dir + "/" + meshio_file_name(meshes.back().group), kXdmfHead + meshio.back() + kXdmfTail);
 }
 
 HistoryWriter::HistoryWriter(const std::string& path, std::vector<std::string> columns)

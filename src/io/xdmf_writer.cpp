@@ -1,5 +1,6 @@
 #include "io/xdmf_writer.hpp"
 
+#include <charconv>
 #include <cstdio>
 #include <sstream>
 
@@ -7,12 +8,11 @@ namespace rpfem {
 
 namespace {
 
-// Every number as it is: 17 significant digits read back to the same double.
+// Every number as it is: the shortest text that reads back as the same
+// double (up to 17 significant digits).
 std::string exact(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
+  char b[32];
+  return std::string(b, std::to_chars(b, b + sizeof b, v).ptr);
 }
 
 std::string step_group(int step) { return numbered_group("/steps", step); }
@@ -54,11 +54,11 @@ void fields(std::ostringstream& os, const std::string& base, const XdmfStep& s, 
   for (const auto& k : s.element_extra) attribute(os, k, "Scalar", "Cell", base + "/element/" + k, ne, 1);
 }
 
-const char* kHead = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
-                    "  <Grid Name=\"rpfem\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-const char* kTail = "  </Grid>\n </Domain>\n</Xdmf>\n";
-
 }  // namespace
+
+const char* const kXdmfHead = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+                              "  <Grid Name=\"rpfem\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+const char* const kXdmfTail = "  </Grid>\n </Domain>\n</Xdmf>\n";
 
 std::string numbered_group(const std::string& parent, int n) {
   char g[16];
@@ -71,66 +71,55 @@ std::string meshio_file_name(const std::string& mesh_group) {
   return "result_meshio_" + mesh_group.substr(mesh_group.rfind('/') + 1) + ".xdmf";
 }
 
-std::string paraview_xdmf(const std::vector<XdmfMesh>& meshes, const std::vector<XdmfStep>& steps) {
+std::string paraview_xdmf(const XdmfMesh& m, const XdmfStep& s) {
   std::ostringstream os;
-  os << kHead;
-  for (const XdmfStep& s : steps) {
-    const XdmfMesh& m = meshes[s.mesh];
-    const std::string g = step_group(s.step);
-    os << "   <Grid Name=\"step " << s.step << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-       << "    <Time Value=\"" << exact(s.time) << "\"/>\n";
-    for (const XdmfBody& b : m.bodies) {
-      const std::string base = g + "/bodies/" + b.name;
-      os << "    <Grid Name=\"" << b.name << "\" GridType=\"Uniform\">\n"
-         << "     <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << b.elements << "\">\n";
-      item(os, m.group + "/bodies/" + b.name + "/connectivity", b.elements, 4, 8);
-      os << "     </Topology>\n     <Geometry GeometryType=\"XY\">\n";
-      item(os, base + "/coordinates", b.nodes, 2);
-      os << "     </Geometry>\n";
-      fields(os, base, s, b.nodes, b.elements);
-      attribute(os, "body", "Scalar", "Cell", base + "/body", b.elements, 1, 4);
-      globals(os, s);
-      os << "    </Grid>\n";
-    }
-    for (const auto& [die, points] : s.dies) {
-      os << "    <Grid Name=\"die " << die << "\" GridType=\"Uniform\">\n"
-         << "     <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" << points - 1
-         << "\">\n";
-      item(os, "/dies/" + die + "/connectivity", points - 1, 2, 8);
-      os << "     </Topology>\n     <Geometry GeometryType=\"XY\">\n";
-      item(os, g + "/dies/" + die + "/coordinates", points, 2);
-      os << "     </Geometry>\n";
-      globals(os, s);
-      os << "    </Grid>\n";
-    }
-    os << "   </Grid>\n";
+  const std::string g = step_group(s.step);
+  os << "   <Grid Name=\"step " << s.step << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+     << "    <Time Value=\"" << exact(s.time) << "\"/>\n";
+  for (const XdmfBody& b : m.bodies) {
+    const std::string base = g + "/bodies/" + b.name;
+    os << "    <Grid Name=\"" << b.name << "\" GridType=\"Uniform\">\n"
+       << "     <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << b.elements << "\">\n";
+    item(os, m.group + "/bodies/" + b.name + "/connectivity", b.elements, 4, 8);
+    os << "     </Topology>\n     <Geometry GeometryType=\"XY\">\n";
+    item(os, base + "/coordinates", b.nodes, 2);
+    os << "     </Geometry>\n";
+    fields(os, base, s, b.nodes, b.elements);
+    attribute(os, "body", "Scalar", "Cell", base + "/body", b.elements, 1, 4);
+    globals(os, s);
+    os << "    </Grid>\n";
   }
-  os << kTail;
+  for (const auto& [die, points] : s.dies) {
+    os << "    <Grid Name=\"die " << die << "\" GridType=\"Uniform\">\n"
+       << "     <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" << points - 1
+       << "\">\n";
+    item(os, "/dies/" + die + "/connectivity", points - 1, 2, 8);
+    os << "     </Topology>\n     <Geometry GeometryType=\"XY\">\n";
+    item(os, g + "/dies/" + die + "/coordinates", points, 2);
+    os << "     </Geometry>\n";
+    globals(os, s);
+    os << "    </Grid>\n";
+  }
+  os << "   </Grid>\n";
   return os.str();
 }
 
-std::string meshio_xdmf(const std::vector<XdmfMesh>& meshes, const std::vector<XdmfStep>& steps, std::size_t mesh) {
-  const XdmfMesh& m = meshes[mesh];
+std::string meshio_xdmf(const XdmfMesh& m, const XdmfStep& s) {
   std::ostringstream os;
-  os << kHead;
-  for (const XdmfStep& s : steps) {
-    if (s.mesh != mesh) continue;
-    const std::string g = step_group(s.step);
-    // meshio's TimeSeriesReader takes the points of the first grid only:
-    // each step's coordinates are also a node attribute.
-    os << "   <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
-       << "    <Time Value=\"" << exact(s.time) << "\"/>\n"
-       << "     <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << m.elements << "\">\n";
-    item(os, m.group + "/connectivity", m.elements, 4, 8);
-    os << "     </Topology>\n     <Geometry GeometryType=\"XY\">\n";
-    item(os, g + "/coordinates", m.nodes, 2);
-    os << "     </Geometry>\n";
-    attribute(os, "coordinates", "Matrix", "Node", g + "/coordinates", m.nodes, 2);
-    fields(os, g, s, m.nodes, m.elements);
-    attribute(os, "body", "Scalar", "Cell", m.group + "/element_body", m.elements, 1, 4);
-    os << "   </Grid>\n";
-  }
-  os << kTail;
+  const std::string g = step_group(s.step);
+  // meshio's TimeSeriesReader takes the points of the first grid only:
+  // each step's coordinates are also a node attribute.
+  os << "   <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
+     << "    <Time Value=\"" << exact(s.time) << "\"/>\n"
+     << "     <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << m.elements << "\">\n";
+  item(os, m.group + "/connectivity", m.elements, 4, 8);
+  os << "     </Topology>\n     <Geometry GeometryType=\"XY\">\n";
+  item(os, g + "/coordinates", m.nodes, 2);
+  os << "     </Geometry>\n";
+  attribute(os, "coordinates", "Matrix", "Node", g + "/coordinates", m.nodes, 2);
+  fields(os, g, s, m.nodes, m.elements);
+  attribute(os, "body", "Scalar", "Cell", m.group + "/element_body", m.elements, 1, 4);
+  os << "   </Grid>\n";
   return os.str();
 }
 
