@@ -1,28 +1,16 @@
 """The suite runs' results for the report (reports/make_report.py): each
 run's history.csv and summary.json, its press load and how far it is from
 the reference formulation's, and the recorded steps and initial mesh in its
-result.h5."""
-import csv
-import json
+result.h5, all read through python/rpfem_results.py."""
 import os
+import sys
 
-import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+import rpfem_results  # noqa: E402
+
 REFERENCE_ORDER = ["direct", "ipopt", "auglag", "penalty", "none"]
-
-
-def read_history(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    cols = {}
-    for r in rows:
-        for k, v in r.items():
-            try:
-                cols.setdefault(k, []).append(float(v))
-            except (TypeError, ValueError):
-                pass
-    return cols
 
 
 def press_column(hist, summary):
@@ -42,14 +30,14 @@ def press_column(hist, summary):
 
 
 def load_run(out, run):
-    d = os.path.join(out, run["dir"])
+    """A suite run (an entry of suite.json) with its files read: summary
+    (dict), history ({column: [values]}), results (an rpfem_results.Run),
+    load_col (the press load's column)."""
     r = dict(run)
-    r["summary"], r["history"] = {}, {}
-    if os.path.exists(os.path.join(d, "summary.json")):
-        with open(os.path.join(d, "summary.json")) as f:
-            r["summary"] = json.load(f)
-    if os.path.exists(os.path.join(d, "history.csv")):
-        r["history"] = read_history(os.path.join(d, "history.csv"))
+    r["results"] = rpfem_results.load_run(os.path.join(out, run["dir"]))
+    r["summary"] = r["results"].summary
+    h = r["results"].history  # as lists, the figures' and tables' input
+    r["history"] = {k: [float(v) for v in h[k]] for k in h.dtype.names or ()} if h is not None else {}
     r["load_col"] = press_column(r["history"], r["summary"]) if r["history"] else None
     return r
 
@@ -99,41 +87,26 @@ def load_differences(r, ref):
     return d[-1], d[len(d) // 2], max(late) if late else nan
 
 
-def open_result(out, r):
-    """Run r's result.h5 open for reading, or None (missing or unreadable)."""
-    try:
-        return h5py.File(os.path.join(out, r["dir"], "result.h5"), "r")
-    except OSError:
-        return None
-
-
 def recorded_steps(out, r):
     """(stroke in mm, step key) of every step recorded in r's result.h5, by
     stroke, the stroke from history.csv; [] when either is missing."""
     h = r["history"]
     strokes = {int(n): s for n, s in zip(h.get("step", []), h.get("stroke", [])) if s == s}
-    f = open_result(out, r)
-    if f is None:
-        return []
-    with f:
-        keys = [k for k in f["steps"] if k.isdigit()] if "steps" in f else []
-    return sorted((strokes[int(k)], k) for k in keys if int(k) in strokes)
+    return sorted((strokes[n], "%06d" % n) for n in r["results"].steps if n in strokes)
 
 
 def read_step(out, r, key, stroke):
     """Run r's deformed mesh and fields at recorded step `key`: node
     coordinates x, connectivity conn, strain rate per element, nodal
     velocity v (mm/s), nodal contact pressure p (None if not written)."""
-    f = open_result(out, r)
-    if f is None:
+    run = r["results"]
+    if not run.has_result:
         return None
-    with f:
-        g = f["steps"][key]
-        p = g["node/contact_pressure"][:] if "node/contact_pressure" in g else None
-        mesh = g.attrs.get("mesh", "/mesh")  # the step's mesh group (a remesh starts a new one)
-        mesh = mesh.decode() if isinstance(mesh, bytes) else mesh
-        return {"stroke": stroke, "x": g["coordinates"][:], "conn": f[mesh + "/connectivity"][:].astype(int),
-                "rate": g["strain_rate"][:], "v": g["velocity"][:], "p": p}
+    step = int(key)
+    m = run.mesh(step)  # on the step's own mesh (a remesh starts a new one)
+    p = run.field("contact_pressure", step) if "contact_pressure" in run.fields(step) else None
+    return {"stroke": stroke, "x": m.coordinates, "conn": m.connectivity, "rate": run.field("strain_rate", step),
+            "v": run.field("velocity", step), "p": p}
 
 
 def workpieces(r, element_body):
@@ -150,13 +123,11 @@ def workpieces(r, element_body):
 def initial_height(out, r):
     """Height of the workpiece at the start (mm), from result.h5; None when
     it is missing or the scene has several workpieces."""
-    f = open_result(out, r)
-    if f is None:
+    if not r["results"].has_result:
         return None
-    with f:
-        x, conn, body = (f["mesh/" + k][:] for k in ("initial_coordinates", "connectivity", "element_body"))
-    work = workpieces(r, body)
+    m = r["results"].initial_mesh()
+    work = workpieces(r, m.element_body)
     if len(work) != 1:
         return None
-    y = x[np.unique(conn[body == work.pop()]), 1]
+    y = m.coordinates[np.unique(m.connectivity[m.element_body == work.pop()]), 1]
     return float(y.max() - y.min())

@@ -1,5 +1,6 @@
 #include "app/run_observer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -10,20 +11,6 @@ namespace rpfem {
 namespace {
 
 toml::array pair(const Vec2& v) { return toml::array{v(0), v(1)}; }
-StepFields fields(const StepRecord& r) {
-  StepFields f;
-  f.step = r.step;
-  f.time = r.time;
-  f.stroke = r.stroke;
-  f.x = &r.x;
-  f.v = &r.v;
-  f.strain_rate = &r.strain_rate;
-  f.strain = &r.strain;
-  f.mean_stress = &r.mean_stress;
-  f.element_scalars["flow_stress"] = r.flow_stress;
-  f.node_scalars = r.node_fields;
-  return f;
-}
 std::string to_json(const toml::table& t) {
   std::ostringstream os;
   os << toml::json_formatter{t};
@@ -47,8 +34,34 @@ RunObserver::RunObserver(const Scene& scene, const std::string& dir, toml::table
   summary_.insert_or_assign("monitors", mons);
   writer_ = std::make_unique<ResultWriter>(dir_, scene_.mesh, to_json(summary_));
   mesh_nodes_ = scene_.mesh.num_nodes(), mesh_elements_ = scene_.mesh.num_elements();
+  // The dies' arcs drawn to a thousandth of the finest body's element size.
+  const auto& sizes = scene_.remesh.size;
+  die_sagitta_ = 1e-3 * (sizes.empty() ? 0.01 * scene_.mesh.size() : *std::min_element(sizes.begin(), sizes.end()));
   const auto& s = scene_.stepping;
   expected_steps_ = s.planned_steps();
+}
+
+StepFields RunObserver::fields(const StepRecord& r) const {
+  StepFields f;
+  f.step = r.step;
+  f.time = r.time;
+  f.stroke = r.stroke;
+  f.x = &r.x;
+  f.v = &r.v;
+  f.strain_rate = &r.strain_rate;
+  f.strain = &r.strain;
+  f.mean_stress = &r.mean_stress;
+  f.element_scalars["flow_stress"] = r.flow_stress;
+  f.node_scalars = r.node_fields;
+  // The values history.csv has for the step: its loads and monitors.
+  for (std::size_t i = 0; i < load_names_.size() && i < r.loads.size(); ++i) {
+    f.globals.push_back({load_names_[i] + ".Fx", r.loads[i](0)});
+    f.globals.push_back({load_names_[i] + ".Fy", r.loads[i](1)});
+  }
+  const std::vector<double> mons = evaluate_monitors(monitors_, r.x);
+  for (std::size_t i = 0; i < monitors_.size(); ++i) f.globals.push_back({monitors_[i].name, mons[i]});
+  for (const Die& d : scene_.dies) f.dies.push_back({d.name, d.profile.polyline(d.motion.displacement(r.time), die_sagitta_)});
+  return f;
 }
 
 void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::string>& load_names,

@@ -45,6 +45,9 @@ class RunObserver final : public StepObserver {
 
  private:
   void write_summary();
+  // A step's record as result.h5 takes it: fields, loads and monitors, the
+  // dies' profiles at its time.
+  StepFields fields(const StepRecord& r) const;
   // The press load's index in a step's loads: the stroke's reference
   // (stepping.reference) where it has one, else the largest at the last
   // step. A remesh's jump is measured on it.
@@ -65,7 +68,8 @@ class RunObserver final : public StepObserver {
   StepRecord last_, before_last_;
   toml::array remeshes_;
   bool jump_pending_ = false;
-  Index mesh_nodes_ = 0, mesh_elements_ = 0;  // the current mesh's (summary's final_mesh)
+  Index mesh_nodes_ = 0, mesh_elements_ = 0;
+  double die_sagitta_ = 0;  // mm: how far a drawn die's chord may stray from its arc  // the current mesh's (summary's final_mesh)
 };
 
 }  // namespace rpfem

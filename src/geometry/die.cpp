@@ -50,6 +50,26 @@ DieProfile::DieProfile(const std::vector<Vec2>& v, const std::vector<double>& fi
   }
 }
 
+namespace {
+
+// Points along a fillet arc, translated by `shift`: its end b and n - 1
+// points between, n steps of equal angle no larger than max_step (rad);
+// its start a too if with_start.
+void arc_points(const DiePiece& piece, const Vec2& shift, double max_step, bool with_start, std::vector<Vec2>& p) {
+  const double a0 = std::atan2(piece.a(1) - piece.center(1), piece.a(0) - piece.center(0));
+  double sweep = std::atan2(piece.b(1) - piece.center(1), piece.b(0) - piece.center(0)) - a0;
+  // A fillet turns by less than half a turn: the short way round.
+  if (sweep > kPi) sweep -= 2 * kPi;
+  if (sweep < -kPi) sweep += 2 * kPi;
+  const int n = std::max(1, static_cast<int>(std::ceil(std::abs(sweep) / max_step)));
+  for (int i = with_start ? 0 : 1; i <= n; ++i) {
+    const double a = a0 + sweep * i / n;
+    p.push_back(piece.center + shift + piece.radius * Vec2(std::cos(a), std::sin(a)));
+  }
+}
+
+}  // namespace
+
 std::vector<Vec2> DieProfile::corner_points(const Vec2& shift, bool with_ends) const {
   std::vector<Vec2> p;
   if (pieces_.empty()) return p;
@@ -57,21 +77,29 @@ std::vector<Vec2> DieProfile::corner_points(const Vec2& shift, bool with_ends) c
   for (std::size_t k = 0; k < pieces_.size(); ++k) {
     const DiePiece& piece = pieces_[k];
     if (piece.arc) {
-      const double a0 = std::atan2(piece.a(1) - piece.center(1), piece.a(0) - piece.center(0));
-      double sweep = std::atan2(piece.b(1) - piece.center(1), piece.b(0) - piece.center(0)) - a0;
-      // A fillet turns by less than half a turn: the short way round.
-      if (sweep > kPi) sweep -= 2 * kPi;
-      if (sweep < -kPi) sweep += 2 * kPi;
-      const int n = std::max(1, static_cast<int>(std::ceil(std::abs(sweep) / (kPi / 18))));
-      for (int i = 0; i <= n; ++i) {
-        const double a = a0 + sweep * i / n;
-        p.push_back(piece.center + shift + piece.radius * Vec2(std::cos(a), std::sin(a)));
-      }
+      arc_points(piece, shift, kPi / 18, true, p);
     } else if (k + 1 < pieces_.size() && !pieces_[k + 1].arc) {
       p.push_back(piece.b + shift);  // two segments meet: a sharp corner
     }
   }
   if (with_ends) p.push_back(pieces_.back().b + shift);
+  return p;
+}
+
+std::vector<Vec2> DieProfile::polyline(const Vec2& shift, double sagitta) const {
+  std::vector<Vec2> p;
+  if (pieces_.empty()) return p;
+  p.push_back(pieces_.front().a + shift);
+  for (const DiePiece& piece : pieces_) {
+    if (!piece.arc) {
+      p.push_back(piece.b + shift);
+      continue;
+    }
+    // A chord of angle t is off its arc by r (1 - cos(t / 2)); at most a
+    // quarter turn per chord, at least a thousandth of a turn.
+    const double s = std::clamp(sagitta / piece.radius, 0.0, 1.0);
+    arc_points(piece, shift, std::clamp(2 * std::acos(1 - s), kPi / 500, kPi / 2), false, p);
+  }
   return p;
 }
 

@@ -49,6 +49,11 @@ class DieProfile {
   // (its ends and every 10 degrees between); the profile's two ends too if
   // `with_ends`.
   std::vector<Vec2> corner_points(const Vec2& shift, bool with_ends) const;
+  // The whole profile as a polyline in walking order, translated by
+  // `shift`: the segments' ends, and along each arc chords that stray from
+  // it by at most `sagitta` (mm) (at most a quarter and at least a
+  // thousandth of a turn each). For drawing the die.
+  std::vector<Vec2> polyline(const Vec2& shift, double sagitta) const;
 
  private:
   std::vector<DiePiece> pieces_;

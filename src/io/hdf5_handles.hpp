@@ -26,17 +26,24 @@ struct H {
   H& operator=(const H&) = delete;
 };
 
-inline void write_array(hid_t parent, const std::string& name, const void* data, hid_t type, std::vector<hsize_t> dims) {
+inline void set_attr_string(hid_t obj, const std::string& name, const std::string& value);
+
+// A dataset; with `units`, its attribute "units" (result.h5's datasets all
+// carry one: mm, mm/s, 1/s, MPa, N, s, 1).
+inline void write_array(hid_t parent, const std::string& name, const void* data, hid_t type, std::vector<hsize_t> dims,
+                        const char* units = nullptr) {
   H space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, "dataspace " + name);
   H set(H5Dcreate2(parent, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
         "create " + name);
   check(H5Dwrite(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
+  if (units) set_attr_string(set.id, "units", units);
 }
 
-inline void write_doubles(hid_t parent, const std::string& name, const std::vector<double>& v, hsize_t cols = 1) {
+inline void write_doubles(hid_t parent, const std::string& name, const std::vector<double>& v, hsize_t cols = 1,
+                          const char* units = nullptr) {
   std::vector<hsize_t> dims{v.size() / cols};
   if (cols > 1) dims.push_back(cols);
-  write_array(parent, name, v.data(), H5T_NATIVE_DOUBLE, dims);
+  write_array(parent, name, v.data(), H5T_NATIVE_DOUBLE, dims, units);
 }
 
 inline void set_attr_string(hid_t obj, const std::string& name, const std::string& value) {

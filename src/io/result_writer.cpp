@@ -3,7 +3,9 @@
 #include <hdf5.h>
 
 #include "io/hdf5_handles.hpp"
+#include "io/xdmf_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -40,34 +42,91 @@ void require_finite(const std::vector<double>& v, const std::string& name) {
     if (!std::isfinite(x)) throw std::logic_error("result field '" + name + "' holds a non-finite value");
 }
 
+// The units of the fields a formulation or the driver adds under node/ and
+// element/ (docs/case-format.md, [contact]). A field missing here is
+// written with units "unknown" (tests/cli/visualization.sh fails on it):
+// a run is not stopped for a label.
+const char* extra_units(const std::string& name) {
+  if (name == "contact_pressure" || name == "contact_shear" || name == "flow_stress") return "MPa";
+  if (name == "slip_velocity") return "mm/s";
+  if (name == "contact_gap") return "mm";
+  return "unknown";
+}
+
+// A virtual dataset: rows [first, first + rows) of the dataset `source`
+// (total_rows x cols, cols 1 for a vector) of this same file, read as a
+// dataset of its own (HDF5 1.10 virtual datasets: nothing is copied).
+void write_view(hid_t parent, const std::string& name, const std::string& source, hid_t type, hsize_t total_rows,
+                hsize_t first, hsize_t rows, hsize_t cols, const char* units) {
+  const int rank = cols > 1 ? 2 : 1;
+  const hsize_t dims[2] = {rows, cols}, src_dims[2] = {total_rows, cols}, start[2] = {first, 0};
+  H space(H5Screate_simple(rank, dims, nullptr), H5Sclose, "dataspace " + name);
+  H src(H5Screate_simple(rank, src_dims, nullptr), H5Sclose, "dataspace " + source);
+  check(H5Sselect_hyperslab(src.id, H5S_SELECT_SET, start, nullptr, dims, nullptr), "select " + source);
+  H dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "dataset properties");
+  check(H5Pset_virtual(dcpl.id, space.id, ".", source.c_str(), src.id), "map " + name);
+  H set(H5Dcreate2(parent, name.c_str(), type, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT), H5Dclose,
+        "create " + name);
+  set_attr_string(set.id, "units", units);
+}
+
+H group(hid_t parent, const std::string& name) {
+  return H(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+}
+
 }  // namespace
 
 struct ResultWriter::Impl {
   std::string dir;
   hid_t file = -1;
-  Index nn = 0, ne = 0;        // the current mesh's nodes and elements
-  std::string mesh = "/mesh";  // the current mesh's group
-  std::vector<int> steps;
+  std::vector<XdmfMesh> meshes;  // the last one current
+  std::string paraview;             // result.xdmf's step grids
+  std::vector<std::string> meshio;  // per mesh: its meshio file's step grids
+  std::vector<int> step_numbers;
   std::vector<double> times;
-  std::vector<std::string> step_mesh;            // per step: its mesh group
-  std::vector<std::pair<Index, Index>> step_size;  // per step: nodes, elements
-  std::vector<std::vector<std::string>> node_extra, element_extra;
+  std::vector<std::pair<std::string, Index>> die_points;  // per die written: its polyline's points
   void write_mesh(const std::string& group, const Mesh& m);
+  void write_bodies(hid_t step, const std::string& name, const XdmfStep& s) const;
+  void write_dies(hid_t step, const StepFields& f, XdmfStep& s);
   void write_xdmf() const;
 };
 
-void ResultWriter::Impl::write_mesh(const std::string& group, const Mesh& m) {
-  H g(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group);
+void ResultWriter::Impl::write_mesh(const std::string& name, const Mesh& m) {
+  H g = group(file, name);
   std::vector<long long> conn;
   for (const auto& q : m.quads)
     for (Index n : q) conn.push_back(n);
-  write_array(g.id, "connectivity", conn.data(), H5T_NATIVE_LLONG, {hsize_t(m.num_elements()), 4});
-  write_array(g.id, "element_body", m.element_body.data(), H5T_NATIVE_INT, {hsize_t(m.num_elements())});
-  write_doubles(g.id, "initial_coordinates", flatten(m.x), 2);
+  write_array(g.id, "connectivity", conn.data(), H5T_NATIVE_LLONG, {hsize_t(m.num_elements()), 4}, "1");
+  write_array(g.id, "element_body", m.element_body.data(), H5T_NATIVE_INT, {hsize_t(m.num_elements())}, "1");
+  write_doubles(g.id, "initial_coordinates", flatten(m.x), 2, "mm");
   std::string names;
   for (const auto& b : m.body_names) names += (names.empty() ? "" : ";") + b;
   set_attr_string(g.id, "body_names", names);
-  mesh = group, nn = m.num_nodes(), ne = m.num_elements();
+  // Each body's connectivity numbered within its own nodes (a body's block
+  // in result.xdmf has its nodes only).
+  XdmfMesh xm{name, m.num_nodes(), m.num_elements(), {}};
+  H bodies = group(g.id, "bodies");
+  for (int b = 0; b < m.num_bodies(); ++b) {
+    XdmfBody xb{m.body_names[b], 0, 0, 0, 0};
+    for (Index n = 0; n < m.num_nodes(); ++n)
+      if (m.node_body[n] == b && xb.nodes++ == 0) xb.first_node = n;
+    for (Index e = 0; e < m.num_elements(); ++e)
+      if (m.element_body[e] == b && xb.elements++ == 0) xb.first_element = e;
+    std::vector<long long> local;
+    for (Index e = xb.first_element; e < xb.first_element + xb.elements; ++e)
+      for (Index n : m.quads[e]) {
+        if (m.element_body[e] != b || n < xb.first_node || n >= xb.first_node + xb.nodes)
+          throw std::logic_error("body '" + xb.name + "': its nodes or elements are not contiguous");
+        local.push_back(n - xb.first_node);
+      }
+    H bg = group(bodies.id, xb.name);
+    write_array(bg.id, "connectivity", local.data(), H5T_NATIVE_LLONG, {hsize_t(xb.elements), 4}, "1");
+    for (const auto& [key, v] : {std::pair<const char*, Index>{"first_node", xb.first_node}, {"nodes", xb.nodes},
+                                 {"first_element", xb.first_element}, {"elements", xb.elements}})
+      set_attr(bg.id, key, static_cast<long long>(v), H5T_NATIVE_LLONG);
+    xm.bodies.push_back(xb);
+  }
+  meshes.push_back(xm);
 }
 
 ResultWriter::ResultWriter(const std::string& dir, const Mesh& mesh, const std::string& metadata_json)
@@ -82,9 +141,9 @@ ResultWriter::ResultWriter(const std::string& dir, const Mesh& mesh, const std::
   if (impl_->file < 0) throw std::runtime_error("cannot create " + partial);
   impl_->write_mesh("/mesh", mesh);
   {
-    H md(H5Gcreate2(impl_->file, "/metadata", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/metadata");
+    H md = group(impl_->file, "/metadata");
     set_attr_string(md.id, "json", metadata_json);
-    H st(H5Gcreate2(impl_->file, "/steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/steps");
+    group(impl_->file, "/steps");
   }
   check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
   std::filesystem::rename(partial, path);
@@ -94,13 +153,11 @@ ResultWriter::~ResultWriter() {
   if (impl_->file >= 0) H5Fclose(impl_->file);
 }
 
-int ResultWriter::steps_written() const { return static_cast<int>(impl_->steps.size()); }
+int ResultWriter::steps_written() const { return static_cast<int>(impl_->step_numbers.size()); }
 
 void ResultWriter::set_mesh(const Mesh& mesh, int first_step) {
-  char name[40];
-  std::snprintf(name, sizeof name, "/meshes/%06d", first_step);
-  if (H5Lexists(impl_->file, "/meshes", H5P_DEFAULT) <= 0)
-    H(H5Gcreate2(impl_->file, "/meshes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/meshes");
+  const std::string name = numbered_group("/meshes", first_step);
+  if (H5Lexists(impl_->file, "/meshes", H5P_DEFAULT) <= 0) group(impl_->file, "/meshes");
   impl_->write_mesh(name, mesh);
   check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
 }
@@ -109,6 +166,54 @@ void ResultWriter::update_metadata(const std::string& json) {
   H md(H5Gopen2(impl_->file, "/metadata", H5P_DEFAULT), H5Gclose, "/metadata");
   set_attr_string(md.id, "json", json);
   check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+}
+
+// Each body's share of the step's fields, as views of them: bodies/<name>/...
+void ResultWriter::Impl::write_bodies(hid_t step, const std::string& name, const XdmfStep& s) const {
+  const XdmfMesh& m = meshes.back();
+  H bodies = group(step, "bodies");
+  for (const XdmfBody& b : m.bodies) {
+    H bg = group(bodies.id, b.name);
+    auto node = [&](const std::string& f, hsize_t cols, const char* units) {
+      write_view(bg.id, f, name + "/" + f, H5T_NATIVE_DOUBLE, m.nodes, b.first_node, b.nodes, cols, units);
+    };
+    auto element = [&](const std::string& f, const std::string& source, hid_t type, const char* units) {
+      write_view(bg.id, f, source, type, m.elements, b.first_element, b.elements, 1, units);
+    };
+    node("coordinates", 2, "mm");
+    node("velocity", 2, "mm/s");
+    node("velocity_xyz", 3, "mm/s");
+    element("strain_rate", name + "/strain_rate", H5T_NATIVE_DOUBLE, "1/s");
+    element("strain", name + "/strain", H5T_NATIVE_DOUBLE, "1");
+    element("mean_stress", name + "/mean_stress", H5T_NATIVE_DOUBLE, "MPa");
+    element("body", m.group + "/element_body", H5T_NATIVE_INT, "1");
+    if (!s.node_extra.empty()) group(bg.id, "node");
+    if (!s.element_extra.empty()) group(bg.id, "element");
+    for (const auto& k : s.node_extra) node("node/" + k, 1, extra_units(k));
+    for (const auto& k : s.element_extra) element("element/" + k, name + "/element/" + k, H5T_NATIVE_DOUBLE, extra_units(k));
+  }
+}
+
+// The dies' polylines at the step (dies/<name>/coordinates); the segments
+// joining them once per die (/dies/<name>/connectivity).
+void ResultWriter::Impl::write_dies(hid_t step, const StepFields& f, XdmfStep& s) {
+  if (f.dies.empty()) return;
+  H dies = group(step, "dies");
+  for (const auto& [die, points] : f.dies) {
+    const Index n = static_cast<Index>(points.size());
+    H dg = group(dies.id, die);
+    write_doubles(dg.id, "coordinates", flatten(points), 2, "mm");
+    s.dies.push_back({die, n});
+    auto known = std::find_if(die_points.begin(), die_points.end(), [&](const auto& d) { return d.first == die; });
+    if (known != die_points.end()) continue;
+    if (H5Lexists(file, "/dies", H5P_DEFAULT) <= 0) group(file, "/dies");
+    H top(H5Gopen2(file, "/dies", H5P_DEFAULT), H5Gclose, "/dies");
+    H cg = group(top.id, die);
+    std::vector<long long> seg;
+    for (Index i = 0; i + 1 < n; ++i) seg.insert(seg.end(), {i, i + 1});
+    write_array(cg.id, "connectivity", seg.data(), H5T_NATIVE_LLONG, {hsize_t(n - 1), 2}, "1");
+    die_points.push_back({die, n});
+  }
 }
 
 void ResultWriter::write_step(const StepFields& f) {
@@ -121,85 +226,63 @@ void ResultWriter::write_step(const StepFields& f) {
   require_finite(*f.mean_stress, "mean_stress");
   for (const auto& [k, d] : f.node_scalars) require_finite(d, k);
   for (const auto& [k, d] : f.element_scalars) require_finite(d, k);
+  for (const auto& [k, d] : f.globals) require_finite({d}, k);
+  for (const auto& [die, p] : f.dies) {
+    require_finite(flatten(p), "die " + die);
+    if (p.size() < 2) throw std::logic_error("die '" + die + "': a polyline of fewer than two points");
+    for (const auto& [name, n] : impl_->die_points)
+      if (name == die && n != static_cast<Index>(p.size()))
+        throw std::logic_error("die '" + die + "': its polyline changed its number of points");
+  }
   if (!std::isfinite(f.time) || !std::isfinite(f.stroke)) throw std::logic_error("non-finite time or stroke");
-  if (static_cast<Index>(f.x->size()) != impl_->nn || static_cast<Index>(f.strain->size()) != impl_->ne)
+  const XdmfMesh& mesh = impl_->meshes.back();
+  if (static_cast<Index>(f.x->size()) != mesh.nodes || static_cast<Index>(f.strain->size()) != mesh.elements)
     throw std::logic_error("a step's fields are not on the current mesh");
 
-  char name[32];
-  std::snprintf(name, sizeof name, "/steps/%06d", f.step);
-  H g(H5Gcreate2(impl_->file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+  const std::string name = numbered_group("/steps", f.step);
+  H g = group(impl_->file, name);
   set_attr(g.id, "step", f.step, H5T_NATIVE_INT);
   set_attr(g.id, "time", f.time, H5T_NATIVE_DOUBLE);
   set_attr(g.id, "stroke", f.stroke, H5T_NATIVE_DOUBLE);
-  set_attr_string(g.id, "mesh", impl_->mesh);
-  write_doubles(g.id, "coordinates", x, 2);
-  write_doubles(g.id, "velocity", v, 2);
-  write_doubles(g.id, "velocity_xyz", v3, 3);
-  write_doubles(g.id, "strain_rate", *f.strain_rate);
-  write_doubles(g.id, "strain", *f.strain);
-  write_doubles(g.id, "mean_stress", *f.mean_stress);
-  std::vector<std::string> nk, ek;
+  set_attr_string(g.id, "mesh", mesh.group);
+  write_doubles(g.id, "coordinates", x, 2, "mm");
+  write_doubles(g.id, "velocity", v, 2, "mm/s");
+  write_doubles(g.id, "velocity_xyz", v3, 3, "mm/s");
+  write_doubles(g.id, "strain_rate", *f.strain_rate, 1, "1/s");
+  write_doubles(g.id, "strain", *f.strain, 1, "1");
+  write_doubles(g.id, "mean_stress", *f.mean_stress, 1, "MPa");
+  XdmfStep s{f.step, f.time, f.stroke, {}, {}, f.globals, {}};
   if (!f.node_scalars.empty()) {
-    H n(H5Gcreate2(g.id, "node", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "node");
-    for (const auto& [k, d] : f.node_scalars) write_doubles(n.id, k, d), nk.push_back(k);
+    H n = group(g.id, "node");
+    for (const auto& [k, d] : f.node_scalars) write_doubles(n.id, k, d, 1, extra_units(k)), s.node_extra.push_back(k);
   }
   if (!f.element_scalars.empty()) {
-    H e(H5Gcreate2(g.id, "element", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "element");
-    for (const auto& [k, d] : f.element_scalars) write_doubles(e.id, k, d), ek.push_back(k);
+    H e = group(g.id, "element");
+    for (const auto& [k, d] : f.element_scalars)
+      write_doubles(e.id, k, d, 1, extra_units(k)), s.element_extra.push_back(k);
   }
-  impl_->steps.push_back(f.step);
+  impl_->write_bodies(g.id, name, s);
+  impl_->write_dies(g.id, f, s);
+  impl_->paraview += paraview_xdmf(mesh, s);
+  impl_->meshio.resize(impl_->meshes.size());
+  impl_->meshio.back() += meshio_xdmf(mesh, s);
+  impl_->step_numbers.push_back(f.step);
   impl_->times.push_back(f.time);
-  impl_->step_mesh.push_back(impl_->mesh);
-  impl_->step_size.push_back({impl_->nn, impl_->ne});
-  impl_->node_extra.push_back(nk);
-  impl_->element_extra.push_back(ek);
   // The index of recorded steps and their times, rewritten each step.
   H steps(H5Gopen2(impl_->file, "/steps", H5P_DEFAULT), H5Gclose, "/steps");
   for (const char* n : {"index", "time"})
     if (H5Lexists(steps.id, n, H5P_DEFAULT) > 0) check(H5Ldelete(steps.id, n, H5P_DEFAULT), "delete index");
-  write_array(steps.id, "index", impl_->steps.data(), H5T_NATIVE_INT, {impl_->steps.size()});
-  write_doubles(steps.id, "time", impl_->times);
+  write_array(steps.id, "index", impl_->step_numbers.data(), H5T_NATIVE_INT, {impl_->step_numbers.size()}, "1");
+  write_doubles(steps.id, "time", impl_->times, 1, "s");
   check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
   impl_->write_xdmf();
 }
 
+// result.xdmf whole, and the meshio file of the current mesh (the earlier
+// meshes' are complete).
 void ResultWriter::Impl::write_xdmf() const {
-  std::ostringstream os;
-  os << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
-     << "  <Grid Name=\"rpfem\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  auto item = [&](const std::string& path, Index rows, int cols) {
-    os << "     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"" << rows;
-    if (cols > 1) os << " " << cols;
-    os << "\">result.h5:" << path << "</DataItem>\n";
-  };
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    char g[32];
-    std::snprintf(g, sizeof g, "/steps/%06d", steps[i]);
-    const std::string s(g);
-    // Each step on its own mesh (a remesh starts a new one).
-    const auto [nn, ne] = step_size[i];
-    os << "   <Grid Name=\"step " << steps[i] << "\" GridType=\"Uniform\">\n"
-       << "    <Time Value=\"" << times[i] << "\"/>\n"
-       << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << ne << "\">\n"
-       << "     <DataItem Format=\"HDF\" NumberType=\"Int\" Precision=\"8\" Dimensions=\"" << ne
-       << " 4\">result.h5:" << step_mesh[i] << "/connectivity</DataItem>\n    </Topology>\n"
-       << "    <Geometry GeometryType=\"XY\">\n";
-    item(s + "/coordinates", nn, 2);
-    os << "    </Geometry>\n    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n";
-    item(s + "/velocity_xyz", nn, 3);
-    os << "    </Attribute>\n";
-    auto scalar = [&](const std::string& name, const std::string& path, Index rows, const char* center) {
-      os << "    <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"" << center << "\">\n";
-      item(path, rows, 1);
-      os << "    </Attribute>\n";
-    };
-    for (const char* f : {"strain_rate", "strain", "mean_stress"}) scalar(f, s + "/" + f, ne, "Cell");
-    for (const auto& k : node_extra[i]) scalar(k, s + "/node/" + k, nn, "Node");
-    for (const auto& k : element_extra[i]) scalar(k, s + "/element/" + k, ne, "Cell");
-    os << "   </Grid>\n";
-  }
-  os << "  </Grid>\n </Domain>\n</Xdmf>\n";
-  write_text_atomically(dir + "/result.xdmf", os.str());
+  write_text_atomically(dir + "/result.xdmf", kXdmfHead + paraview + kXdmfTail);
+  write_text_atomically(dir + "/" + meshio_file_name(meshes.back().group), kXdmfHead + meshio.back() + kXdmfTail);
 }
 
 HistoryWriter::HistoryWriter(const std::string& path, std::vector<std::string> columns)

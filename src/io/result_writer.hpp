@@ -1,11 +1,13 @@
 // Writes a run's results as it goes: DIR/result.h5 (HDF5), DIR/result.xdmf
-// (so ParaView opens the time series) and DIR/history.csv. Every finished
+// (so ParaView opens the time series: a block per body and per die),
+// DIR/result_meshio*.xdmf (for meshio) and DIR/history.csv. Every finished
 // step is flushed to disk before write_step returns, so a killed run keeps
 // every finished step. Layout: docs/results-format.md.
 #pragma once
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/types.hpp"
@@ -28,6 +30,13 @@ struct StepFields {
   const std::vector<double>* mean_stress = nullptr;  // element mean stress, MPa
   std::map<std::string, std::vector<double>> node_scalars;     // extra, per node
   std::map<std::string, std::vector<double>> element_scalars;  // extra, per element
+  // Values of the whole step (XDMF grid attributes, for plots over time):
+  // each load component as history.csv names it ("<group>.Fy", N, N/mm in
+  // plane strain), each monitor as its column.
+  std::vector<std::pair<std::string, double>> globals;
+  // Each rigid die's profile at the step's time, a polyline in walking
+  // order (mm); a die has the same number of points at every step.
+  std::vector<std::pair<std::string, std::vector<Vec2>>> dies;
 };
 
 class ResultWriter {
@@ -35,6 +44,8 @@ class ResultWriter {
   // Creates DIR (and parents) if needed, writes the mesh topology and the
   // run metadata (a JSON text stored as the attribute /metadata/json)
   // into DIR/result.h5.partial, flushes it and renames it DIR/result.h5.
+  // Each body's nodes and elements must be contiguous (Mesh::append keeps
+  // them so).
   ResultWriter(const std::string& dir, const Mesh& mesh, const std::string& metadata_json);
   ~ResultWriter();
   ResultWriter(const ResultWriter&) = delete;
@@ -44,7 +55,7 @@ class ResultWriter {
   // the remesh's configuration), stored as /meshes/NNNNNN (first_step);
   // each step group names its mesh (attribute "mesh").
   void set_mesh(const Mesh& mesh, int first_step);
-  void write_step(const StepFields& f);          // result.h5 + result.xdmf
+  void write_step(const StepFields& f);          // result.h5 + the XDMF files
   void update_metadata(const std::string& json);  // rewrite /metadata/json
   int steps_written() const;
 

@@ -87,3 +87,24 @@ TEST(Die, MotionFromTable) {
   EXPECT_NEAR(DieMotion(Vec2(0, -0.5)).displacement(4.0)(1), -2.0, 1e-14);
   EXPECT_NEAR(m.max_speed(), 3.0, 1e-14);
 }
+
+TEST(Die, PolylineDrawsArcsToTheSagitta) {
+  // The punch with a 2 mm fillet, shifted: the face's start, the arc's
+  // chords, the flank's end; no chord strays from the arc by more than the
+  // sagitta.
+  const DieProfile d = punch(2.0);
+  const Vec2 shift(0, -1);
+  const double sagitta = 1e-3;
+  const auto p = d.polyline(shift, sagitta);
+  EXPECT_NEAR((p.front() - Vec2(0, 4)).norm(), 0, 1e-14);
+  EXPECT_NEAR((p.back() - Vec2(10, 14)).norm(), 0, 1e-14);
+  // A quarter turn of radius 2 in chords of sagitta 1e-3: at least
+  // (pi / 2) / (2 acos(1 - 5e-4)) = 24.8 of them.
+  EXPECT_GE(p.size(), 2u + 25u);
+  const Vec2 center(8, 6);  // the fillet's centre, shifted
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    EXPECT_NEAR((p[i] - center).norm(), 2.0, 1e-12);
+    if (i + 2 < p.size()) EXPECT_LE(2.0 - (0.5 * (p[i] + p[i + 1]) - center).norm(), sagitta * (1 + 1e-9));
+  }
+  EXPECT_EQ(punch(0).polyline(Vec2::Zero(), sagitta).size(), 3u);  // sharp: the vertices
+}

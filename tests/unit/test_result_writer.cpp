@@ -33,6 +33,8 @@ TEST(ResultWriter, WritesStepsAndRefusesNaN) {
       f.strain = &strain;
       f.mean_stress = &sm;
       f.element_scalars["flow_stress"] = {100.0, 101.0};
+      f.globals = {{"top.Fy", -1000.0 / 3 * s}};
+      f.dies = {{"top", {Vec2(0, 1.5 - 0.1 * s), Vec2(2, 1.5 - 0.1 * s)}}};
       w.write_step(f);
     }
     std::vector<double> bad = strain;
@@ -59,9 +61,27 @@ TEST(ResultWriter, WritesStepsAndRefusesNaN) {
   EXPECT_EQ(read_h5_dataset(h5, "/steps/000001/strain")[1], 0.02);
   EXPECT_EQ(read_h5_dataset(h5, "/steps/000000/element/flow_stress")[1], 101.0);
   const std::string xdmf = read_text(dir + "/result.xdmf");
-  EXPECT_NE(xdmf.find("result.h5:/steps/000000/coordinates"), std::string::npos);
-  EXPECT_NE(xdmf.find("result.h5:/steps/000001/strain_rate"), std::string::npos);
+  EXPECT_NE(xdmf.find("result.h5:/steps/000000/bodies/b/coordinates"), std::string::npos);
+  EXPECT_NE(xdmf.find("result.h5:/steps/000001/bodies/b/strain_rate"), std::string::npos);
   EXPECT_EQ(xdmf.find("000002"), std::string::npos);
+  // A block per body (its share of the fields a view of the step's), the
+  // die's polyline, the step's globals at full precision (the shortest
+  // text that reads back as the same double), units.
+  EXPECT_EQ(read_h5_dataset(h5, "/steps/000001/bodies/b/strain")[1], 0.02);
+  EXPECT_EQ(read_h5_dataset(h5, "/steps/000001/dies/top/coordinates")[1], 1.4);
+  EXPECT_NE(xdmf.find("<Grid Name=\"b\" GridType=\"Uniform\">"), std::string::npos);
+  EXPECT_NE(xdmf.find("<Grid Name=\"die top\" GridType=\"Uniform\">"), std::string::npos);
+  EXPECT_NE(xdmf.find("result.h5:/dies/top/connectivity"), std::string::npos);
+  EXPECT_NE(xdmf.find("<Attribute Name=\"top.Fy\" AttributeType=\"Scalar\" Center=\"Grid\"><DataItem Format=\"XML\" "
+                      "Dimensions=\"1\">-333.3333333333333</DataItem>"),
+            std::string::npos);
+  const std::string meshio = read_text(dir + "/result_meshio.xdmf");
+  EXPECT_NE(meshio.find("<Attribute Name=\"coordinates\""), std::string::npos);
+  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  for (const char* d : {"/mesh/connectivity", "/steps/time", "/steps/000001/strain_rate", "/steps/000001/bodies/b/velocity",
+                        "/steps/000000/element/flow_stress", "/dies/top/connectivity"})
+    EXPECT_GT(H5Aexists_by_name(file, d, "units", H5P_DEFAULT), 0) << d;
+  H5Fclose(file);
 }
 
 TEST(HistoryWriter, RowsAndValidation) {
@@ -126,6 +146,13 @@ TEST(ResultWriter, ARemeshStartsANewMesh) {
   const std::string xdmf = read_text(dir + "/result.xdmf");
   EXPECT_NE(xdmf.find("NumberOfElements=\"2\">"), std::string::npos);
   EXPECT_NE(xdmf.find("NumberOfElements=\"6\">"), std::string::npos);
-  EXPECT_NE(xdmf.find("Dimensions=\"6 4\">result.h5:/meshes/000002/connectivity"), std::string::npos);
-  EXPECT_NE(xdmf.find("Dimensions=\"12 2\">result.h5:/steps/000003/coordinates"), std::string::npos);
+  EXPECT_NE(xdmf.find("Dimensions=\"6 4\">result.h5:/meshes/000002/bodies/b/connectivity"), std::string::npos);
+  EXPECT_NE(xdmf.find("Dimensions=\"12 2\">result.h5:/steps/000003/bodies/b/coordinates"), std::string::npos);
+  // meshio: a file per mesh, the first one's steps in result_meshio.xdmf.
+  const std::string first = read_text(dir + "/result_meshio.xdmf"), second = read_text(dir + "/result_meshio_000002.xdmf");
+  EXPECT_NE(first.find("result.h5:/steps/000001/coordinates"), std::string::npos);
+  EXPECT_EQ(first.find("000002"), std::string::npos);
+  EXPECT_NE(second.find("Dimensions=\"6 4\">result.h5:/meshes/000002/connectivity"), std::string::npos);
+  EXPECT_NE(second.find("Dimensions=\"12 2\">result.h5:/steps/000003/coordinates"), std::string::npos);
+  EXPECT_EQ(second.find("000001"), std::string::npos);
 }
