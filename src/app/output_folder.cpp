@@ -154,6 +154,16 @@ void make_output_folder(const std::string& dir, const std::string& option) {
 void remove_run_results(const std::string& dir) {
   std::error_code ec;
   for (const auto& name : run_files()) fs::remove(fs::path(dir) / name, ec);
+  // meshio's files: result_meshio.xdmf and one per remeshed segment
+  // (result_meshio_NNNNNN.xdmf), and their temporaries.
+  std::vector<fs::path> meshio;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("result_meshio", 0) == 0 &&
+        (name.ends_with(".xdmf") || name.ends_with(".xdmf.tmp")))
+      meshio.push_back(entry.path());
+  }
+  for (const auto& p : meshio) fs::remove(p, ec);
 }
 
 void remove_stale_variant_runs(const std::string& parent, const std::vector<std::string>& keep) {

@@ -77,6 +77,7 @@ check "result.xdmf names only what result.h5 holds ($(h5_check "$out" 2>&1 | tai
   '[ "$(h5_check "$out" 2>&1 | tail -1)" = "steps 0" ]'
 check "history.csv has its header only" '[ "$(wc -l < "$out/history.csv")" -eq 1 ]'
 check "no temporaries left" '[ -z "$(ls "$out" | grep -E "partial|tmp")" ]'
+check "no meshio file of the finished run" '[ ! -e "$out/result_meshio.xdmf" ]'
 
 # SIGTERM: the run stops at a step boundary and gives the folder back.
 "$rpfem" run "$case_file" --out "$out" --quiet --set stepping.stroke_increment=0.001 > "$tmp/term.log" 2>&1 &
