@@ -70,4 +70,10 @@ expect body-name "key 'bodies.bil,let': the table's name: expected a name" -- "$
 expect monitor-name "key 'monitors.0.name': expected a name of letters, digits" -- \
   "$rpfem" run "$src/cases/upsetting_friction.toml" --out "$tmp/o18" --set 'monitors.0.name=bulge,radius'
 expect case-is-folder "cases: a folder; expected a case file" -- "$rpfem" run "$src/cases" --out "$tmp/o19"
+# A body far larger than its elements, or far from the origin: nodes
+# double precision cannot merge (the merge grid's integer cells overflowed).
+expect mesh-extent "mesh of 'billet': coordinates beyond double precision's range" -- \
+  "$rpfem" run "$base" --out "$tmp/o20" --set bodies.billet.mesh.width=1e308
+expect mesh-offset "mesh of 'billet': coordinates up to 1e+13 mm" -- \
+  "$rpfem" run "$src/cases/upsetting_frictionless_plane.toml" --out "$tmp/o21" --set bodies.billet.mesh.x0=1e13
 exit $fail
