@@ -82,11 +82,12 @@ Mesh mesh_blocks(const std::string& body, const std::vector<Block>& blocks) {
   // Nodes merge within 1e-6 h (below), which must exceed the round-off of
   // their coordinates, 1e-16 of their size: a body far from the origin, or
   // far larger than its smallest element, has nodes double precision
-  // cannot merge (and the merge grid's integer cells overflowed).
+  // cannot merge (and the merge grid's integer cells overflowed). A
+  // coordinate that overflowed (a radius of 1e308: inf - inf) is not finite.
   double extent = 0;
   for (const auto& g : grids)
-    for (const Vec2& p : g) extent = std::max(extent, p.cwiseAbs().maxCoeff());
-  if (!(extent <= 1e9 * h)) {
+    for (const Vec2& p : g) extent = std::max(extent, p.allFinite() ? p.cwiseAbs().maxCoeff() : INFINITY);
+  if (!(std::isfinite(extent) && extent <= 1e9 * h)) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "coordinates up to %.3g mm with elements of %.3g mm", extent, h);
     throw InputError("mesh of '" + body + "': " +

@@ -76,4 +76,6 @@ expect mesh-extent "mesh of 'billet': coordinates beyond double precision's rang
   "$rpfem" run "$base" --out "$tmp/o20" --set bodies.billet.mesh.width=1e308
 expect mesh-offset "mesh of 'billet': coordinates up to 1e+13 mm" -- \
   "$rpfem" run "$src/cases/upsetting_frictionless_plane.toml" --out "$tmp/o21" --set bodies.billet.mesh.x0=1e13
+expect mesh-overflow "mesh of 'upper': coordinates beyond double precision's range" -- \
+  "$rpfem" run "$src/cases/paper_test1_double_action.toml" --out "$tmp/o22" --set bodies.upper.mesh.radius=1e308
 exit $fail
