@@ -72,7 +72,6 @@ CaseFile::CaseFile(const std::string& path, const std::vector<std::string>& over
     if (eq == std::string::npos || eq == 0)
       throw InputError("--set '" + o + "': expected key.path=value");
     const std::string key = o.substr(0, eq), text = o.substr(eq + 1);
-    toml::node_view<toml::node> parsed;
     toml::table holder;
     try {
       holder = toml::parse("v = " + text);

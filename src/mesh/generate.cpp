@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <map>
@@ -81,6 +82,21 @@ Mesh mesh_blocks(const std::string& body, const std::vector<Block>& blocks) {
     throw InputError("mesh of '" + body +
                      "': zero-size element: grid points coincide in double precision; expected dimensions large "
                      "enough against the coordinates for these divisions");
+  // Nodes merge within 1e-6 h (below), which must exceed the round-off of
+  // their coordinates, 1e-16 of their size: a body far from the origin, or
+  // far larger than its smallest element, has nodes double precision
+  // cannot merge (and the merge grid's integer cells overflowed). A
+  // coordinate that overflowed (a radius of 1e308: inf - inf) is not finite.
+  double extent = 0;
+  for (const auto& g : grids)
+    for (const Vec2& p : g) extent = std::max(extent, p.allFinite() ? p.cwiseAbs().maxCoeff() : INFINITY);
+  if (!(std::isfinite(extent) && extent <= 1e9 * h)) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "coordinates up to %.3g mm with elements of %.3g mm", extent, h);
+    throw InputError("mesh of '" + body + "': " +
+                     (std::isfinite(extent) ? std::string(buf) : "coordinates beyond double precision's range") +
+                     "; expected coordinates within 1e9 times the smallest element (check the dimensions)");
+  }
 
   Mesh m;
   m.body_names = {body};
