@@ -204,7 +204,8 @@ void ResultWriter::Impl::write_dies(hid_t step, const StepFields& f, XdmfStep& s
     H dg = group(dies.id, die);
     write_doubles(dg.id, "coordinates", flatten(points), 2, "mm");
     s.dies.push_back({die, n});
-    auto known = std::find_if(die_points.begin(), die_points.end(), [&](const auto& d) { return d.first == die; });
+    const std::string& name = die;  // a structured binding cannot be captured before C++20's clang 16
+    auto known = std::find_if(die_points.begin(), die_points.end(), [&](const auto& d) { return d.first == name; });
     if (known != die_points.end()) continue;
     if (H5Lexists(file, "/dies", H5P_DEFAULT) <= 0) group(file, "/dies");
     H top(H5Gopen2(file, "/dies", H5P_DEFAULT), H5Gclose, "/dies");
