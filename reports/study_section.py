@@ -59,8 +59,8 @@ def findings(s):
     meta, lines = s["meta"], []
     done = finished(s["rows"])
     if len(done) < len(s["rows"]):
-        lines.append("%d of %d runs did not finish (the reasons are in the notes under the table)." % (len(s["rows"]) - len(done),
-                                                                                      len(s["rows"])))
+        lines.append("%d of %d runs did not finish (the reasons are in the notes under the table)."
+                     % (len(s["rows"]) - len(done), len(s["rows"])))
     ref = meta.get("reference", {})
     for label, g, rows in richardson_groups(s):
         # The group names the other axes' values; "(all runs)" when there are none.
