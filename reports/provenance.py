@@ -47,7 +47,7 @@ def provenance_rows(out, suite, runs):
         ("rpfem executable", program.get("path", "unknown (not recorded in suite.json)")),
         ("compiler", program.get("compiler", "unknown (not recorded in suite.json)")),
         ("BLAS loaded", blas_of(program.get("path"))),
-        ("suite finished", made.strftime("%Y-%m-%d %H:%M")),
+        ("suite.json written", made.strftime("%Y-%m-%d %H:%M")),
         ("report made", datetime.datetime.now().strftime("%Y-%m-%d %H:%M")),
         ("machine", "%s: %s, %s" % (socket.gethostname(), platform.platform(), cpu())),
         ("suite folder", os.path.abspath(out)),
