@@ -41,9 +41,10 @@ def verdict(suite, runs, ver, flags):
         lines.append("Study runs: %d, %d stopped early (recorded in the studies' tables, a measurement, not a "
                      "failure)." % (n, st))
     flagged = {sc: n for sc, n in flags.items() if n}
-    lines.append("Load flags: %d in %d scenes%s." % (sum(flagged.values()), len(flagged), (": " + ", ".join(
-        "<a href='#%s'>%s</a> (%d)" % (anchor("scene", sc), html.escape(sc), n) for sc, n in flagged.items()))
-        if flagged else ""))
+    links = ", ".join("<a href='#%s'>%s</a> (%d)" % (anchor("scene", sc), html.escape(sc), n)
+                      for sc, n in flagged.items())
+    lines.append("Load flags: %d in %d scene%s%s." % (sum(flagged.values()), len(flagged),
+                                                      "" if len(flagged) == 1 else "s", ": " + links if links else ""))
     title = "Verdict: %s" % ("PASS" if ok else "FAIL")
     h = "<div class='verdict %s' id='verdict'><h2>%s</h2>%s</div>" % (
         "pass" if ok else "fail", title, "".join("<p style='margin:0.2em 0'>%s</p>" % x for x in lines))

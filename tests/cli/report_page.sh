@@ -40,7 +40,7 @@ check "contents link every scene" \
   'grep -q "scene-role_switch_flat_punch scene-upsetting_frictionless_axisym" "$tmp/page" && grep -q "href=.#scene-role_switch_flat_punch" "$o/report.html"'
 check "provenance block with the BLAS" 'grep -q "<h2 id=.provenance.>Provenance</h2>" "$o/report.html" && grep -q "<td>BLAS loaded</td><td>/" "$o/report.html"'
 check "role switch drop flagged" 'grep -q "<li>penalty: the load drops [0-9.]* % in one step, from [0-9.]* kN at 0.125 mm" "$o/report.html"'
-check "flags counted in the verdict" 'grep -q "Load flags: [1-9][0-9]* in 1 scenes: <a href=.#scene-role_switch_flat_punch.>" "$o/report.html"'
+check "flags counted in the verdict" 'grep -q "Load flags: [1-9][0-9]* in 1 scene: <a href=.#scene-role_switch_flat_punch.>" "$o/report.html"'
 # The mesh figure's axes, read off the figure the report draws.
 (cd "$src/reports" && /usr/bin/python3 - "$o" > "$tmp/axes" <<'PY'
 import json, sys
