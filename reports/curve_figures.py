@@ -8,6 +8,7 @@ reduction, one per friction value)."""
 import numpy as np
 
 from plotting import missing_panel, plt, png_bytes
+from reference_curves import load_references, ring_frictionless
 from results import initial_height, label
 
 
@@ -102,6 +103,10 @@ def calibration_png(out, runs, title):
             continue
         ax.plot([100 * s / H0 for s in r["history"]["stroke"]], r["history"]["inner_diameter_mid"], label=label(r),
                 color=colours(i % 20), linestyle="-" if r["variant"] else "--")
+    top = max(max(100 * s / H0 for s in r["history"]["stroke"]) for r in curves if (H0 := initial_height(out, r)))
+    x = list(np.linspace(0, top, 50))
+    ax.plot(x, ring_frictionless(x), color="k", linewidth=2.5, linestyle=":", zorder=1,
+            label="m = 0, exact: sqrt(H0/H) - 1")
     ax.axhline(0, color="k", linewidth=0.5)
     ax.set_xlabel("height reduction (%)")
     ax.set_ylabel("inner diameter change at mid-height (%)")
@@ -113,7 +118,11 @@ def calibration_png(out, runs, title):
 
 
 def load_png(runs, title):
+    """Press load against stroke, every run, with the scene's closed-form
+    reference (reference_curves.py) where there is one."""
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+    for strokes, loads, text in load_references(title, runs):
+        ax.plot(strokes, loads, color="k", linestyle="--", linewidth=1.5, label=text, zorder=5)
     marked = False
     for r in runs:
         if r["load_col"]:
@@ -126,8 +135,10 @@ def load_png(runs, title):
                 ax.plot(at, np.interp(at, stroke, load), linestyle="none", marker="x",
                         color=line.get_color(), markersize=6, label=None if marked else "remesh")
                 marked = True
+    plane = any(r["summary"].get("parameters", {}).get("run", {}).get("geometry", "").startswith("plane")
+                for r in runs)
     ax.set_xlabel("stroke (mm)")
-    ax.set_ylabel("load (kN)")
+    ax.set_ylabel("load (kN/mm, per unit thickness)" if plane else "load (kN)")
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
     if ax.lines:
@@ -139,8 +150,12 @@ def load_png(runs, title):
 # The report's entries (see make_report.FIGURES): alt text, file tag, drawing, caption.
 LOAD_FIGURE = (
     "load against stroke", "load", lambda out, rs, sc: load_png(rs, sc),
-    "Press load (kN) against stroke (mm), every formulation and variant (paper Fig. 11); an x marks each "
-    "remesh of a run that remeshes.")
+    "Press load (kN; plane strain: kN/mm of thickness) against stroke (mm), every formulation and variant (paper "
+    "Fig. 11); an x marks each remesh of a run that remeshes. Dashed black, where the scene has one: the closed "
+    "form, for frictionless upsetting the exact homogeneous load F = sigma(ln H0/H) A0 H0/H (plane strain: "
+    "2/sqrt3 sigma w0 H0/H; verification/analytic.cpp), for the plane-strain indentation Prandtl's flat-punch "
+    "load 2k(1 + pi/2) b on a half-space at the initial flow stress (the block is finite and the punch filleted: "
+    "a guide, not the exact answer).")
 STEPS_FIGURE = (
     "penetration, iterations and force imbalance per step", "steps", lambda out, rs, sc: steps_png(rs, sc),
     "Per step against stroke: largest penetration over the element size, iterations, Newton's relative force "
@@ -149,4 +164,5 @@ STEPS_FIGURE = (
     "contact-pair imbalance between deformable bodies. Log scales show zeros at 1e-16.")
 CALIBRATION_FIGURE = (
     "ring calibration curves", "calibration", calibration_png,
-    "Inner-diameter change at mid-height against height reduction, one curve per run.")
+    "Inner-diameter change at mid-height against height reduction, one curve per run; black dotted: the exact "
+    "frictionless (m = 0) curve, homogeneous flow, sqrt(H0/H) - 1.")

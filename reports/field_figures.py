@@ -74,7 +74,15 @@ def field_cells(out, rs):
 
 
 def stroke_text(stroke, height):
-    return "%.2f mm" % stroke + (" (%.0f %%)" % (100 * stroke / height) if height else "")
+    """The stroke, and the workpiece's height reduction (stroke / initial
+    height) when there is one workpiece."""
+    return "stroke %.2f mm" % stroke + (", reduction %.1f %%" % (100 * stroke / height) if height else "")
+
+
+def axis_names(r):
+    """The mesh axes' names: r and z in axisymmetry, x and y in plane strain."""
+    geometry = r["summary"].get("parameters", {}).get("run", {}).get("geometry", "")
+    return ("r (mm)", "z (mm)") if geometry.startswith("axisym") else ("x (mm)", "y (mm)")
 
 
 def finite_max(arrays):
@@ -92,9 +100,10 @@ def bounds(cells, pad=None):
     return lo - pad, hi + pad
 
 
-def field_axes(nrows, ncols, lo, hi, w):
+def field_axes(nrows, ncols, lo, hi, w, names):
     """Figure and a grid of panels, equal aspect, shared limits lo to hi
-    (mm), panels w inches wide, axes in mm on the outer panels."""
+    (mm), panels w inches wide, axes (names: horizontal, vertical) on the
+    outer panels."""
     ratio = (hi[1] - lo[1]) / (hi[0] - lo[0])
     w = min(w, 5.0 / ratio)  # tall meshes: narrower panels, at most 5 inches high
     h = max(w * ratio, 1.6)
@@ -105,9 +114,9 @@ def field_axes(nrows, ncols, lo, hi, w):
         ax.set_ylim(lo[1], hi[1])
         ax.set_aspect("equal")
     for ax in axes[-1]:
-        ax.set_xlabel("x or r (mm)")
+        ax.set_xlabel(names[0])
     for ax in axes[:, 0]:
-        ax.set_ylabel("y (mm)")
+        ax.set_ylabel(names[1])
     return fig, axes
 
 
@@ -124,7 +133,7 @@ def strain_rate_png(out, rs, title):
         return None
     height = initial_height(out, runs[0])
     vmax = finite_max([c["rate"] for c in present])
-    fig, axes = field_axes(len(runs), len(cols), *bounds(present), 3.0)
+    fig, axes = field_axes(len(runs), len(cols), *bounds(present), 3.0, axis_names(runs[0]))
     for r, row, ax_row in zip(runs, cells, axes):
         for s, c, ax in zip(cols, row, ax_row):
             if c is None:
@@ -136,8 +145,9 @@ def strain_rate_png(out, rs, title):
             ax.set_title("%s, %s" % (label(r), stroke_text(c["stroke"], height)), fontsize=9)
     fig.colorbar(ScalarMappable(Normalize(0, vmax), "viridis"), ax=axes, label="effective strain rate (1/s)",
                  shrink=0.8)
-    fig.suptitle("%s: effective strain rate\nat the recorded strokes nearest to 25, 50, 75, 100 %% of the final stroke"
-                 % title, fontsize=10)
+    fig.suptitle("%s: effective strain rate at the recorded strokes nearest to 25, 50, 75, 100 %% of the final "
+                 "stroke\n(%s)" % (title, stroke_text(cols[-1], height).replace("stroke", "final stroke", 1)
+                                  .replace("reduction", "height reduction", 1)), fontsize=10)
     return png_bytes(fig)
 
 
@@ -175,12 +185,12 @@ def velocity_panel(ax, c, vmax, arrow):
                      scale=vmax / arrow, units="inches", width=0.015, color="k")
 
 
-def velocity_axes(n, cells, arrow):
+def velocity_axes(n, cells, arrow, names):
     """Figure and n panels for the velocity: side by side, one above the
     other for flat parts; limits with room for the arrows."""
     lo, hi = bounds(cells, arrow)
     wide = hi[1] - lo[1] < 0.5 * (hi[0] - lo[0])
-    return field_axes(n, 1, lo, hi, 8.0) if wide else field_axes(1, n, lo, hi, 4.0)
+    return field_axes(n, 1, lo, hi, 8.0, names) if wide else field_axes(1, n, lo, hi, 4.0, names)
 
 
 def velocity_png(out, rs, title):
@@ -195,7 +205,7 @@ def velocity_png(out, rs, title):
     height = initial_height(out, runs[0])
     vmax = finite_max([np.linalg.norm(c["v"], axis=1) for c in present])
     arrow = 1.5 * min(element_size(c) for c in present)
-    fig, axes = velocity_axes(len(runs), present, arrow)
+    fig, axes = velocity_axes(len(runs), present, arrow, axis_names(runs[0]))
     for r, c, ax in zip(runs, last, axes.ravel()):
         if c is None:
             no_step_panel(ax, r, cols[-1], height)
@@ -215,7 +225,8 @@ MESH_FIGURE = (
     "Deformed meshes coloured by the effective strain rate (1/s), one colour scale: a row per formulation (base "
     "runs, reference first, at most %d), a column per recorded step nearest to 25, 50, 75 and 100 %% of the final "
     "stroke (paper Fig. 6 and 9). Panel titles give each run's own stroke and, for one workpiece, the height "
-    "reduction." % MAX_ROWS)
+    "reduction (stroke over the workpiece's initial height). Axes r, z in axisymmetric scenes, x, y in plane "
+    "strain." % MAX_ROWS)
 VELOCITY_FIGURE = (
     "velocity magnitude with vectors near the contact", "velocity", velocity_png,
     "Nodal velocity magnitude (mm/s) at the last column's stroke, formulations side by side, one colour scale; "

@@ -1,21 +1,27 @@
 #!/usr/bin/python3
 """The suite's comparison report, from a suite folder written by
-`rpfem suite`: OUT/report.html (self-contained, figures embedded) and its
-Markdown twin OUT/report.md (figures in OUT/report_files/).
+`rpfem suite`: OUT/report.html with its figures in OUT/report_files/
+(--single-file: figures embedded, report.html alone is the report) and its
+Markdown twin OUT/report.md.
 
-At the top: how far each formulation's load is from the scene's reference
-formulation (`direct` where it ran, else `ipopt`), and how long each took;
-then the verification checks, if the suite ran them. Per scene: the figures
-(curve_figures.py: load against stroke, the per-step penetration,
-iterations, residual and force imbalance, for rings the calibration
-curves; field_figures.py: the strain rate on the deformed meshes through
-the stroke and the velocity near the contact at the end), each with a
-caption, and a table of the runs (status, steps, wall time, time per step,
-final load, largest penetration). Last, the studies the suite ran
-(study_section.py: per study its figure, what its sweep.json concludes and
-its table). A figure the data do not allow, or that fails, is left out with
-a note. The runs' files are read by results.py, the studies' tables by
-study_results.py.
+At the top (report_page.py): the verdict (verification checks passed and
+failed, runs finished and stopped, load flags), the contents with links to
+every scene and study, and the provenance (provenance.py: rpfem version,
+executable, compiler, BLAS, dates, machine). Then how far each
+formulation's load is from the scene's reference formulation's (`direct`
+where it ran, else `ipopt`), how long each took, and the verification
+checks, if the suite ran them. Per scene: the load flags (load_flags.py:
+formulations that differ by more than 5 %, loads that drop by more than
+5 % in a step), the figures (curve_figures.py: load against stroke, the
+per-step penetration, iterations, residual and force imbalance, for rings
+the calibration curves; field_figures.py: the strain rate on the deformed
+meshes through the stroke and the velocity near the contact at the end),
+each with a caption, and a table of the runs (status, steps, wall time,
+time per step, final load, largest penetration). Last, the studies the
+suite ran (study_section.py: per study its figure, what its sweep.json
+concludes and its table). A figure the data do not allow, or that fails,
+is left out with a note. The runs' files are read by results.py, the
+studies' tables by study_results.py.
 
 Run with Debian's Python: /usr/bin/python3 reports/make_report.py OUT
 (from any directory: the sibling modules import from the script's own
@@ -29,7 +35,10 @@ import sys
 from curve_figures import CALIBRATION_FIGURE, LOAD_FIGURE, STEPS_FIGURE, calibration_png
 from field_figures import MESH_FIGURE, VELOCITY_FIGURE
 from plotting import draw_or_skip
-from report_html import figure, html_table, md_table, note
+from load_flags import RULE, scene_flags
+from provenance import provenance_rows
+from report_html import INLINE, anchor, figure, html_table, md_table, note
+from report_page import contents, page, provenance, verdict
 from study_section import studies_section
 from results import REFERENCE_ORDER, final_load_kN, label, load_differences, load_run
 
@@ -78,6 +87,36 @@ HEADER = ["run", "status", "steps", "wall time (s)", "time per step (s)", "final
           "max penetration / element size"]
 
 
+def reference_run(base):
+    """The scene's reference run: the first formulation of REFERENCE_ORDER
+    that finished with a load."""
+    return next((r for name in REFERENCE_ORDER for r in base
+                 if r["formulation"] == name and r["exit_code"] == 0 and r["load_col"]), None)
+
+
+def flags_block(lines):
+    """A scene's load flags: (HTML, Markdown); empty when none."""
+    if not lines:
+        return "", ""
+    return ("<div class='flags'><p><b>Load flags (%d)</b></p><ul>%s</ul></div>"
+            % (len(lines), "".join("<li>%s</li>" % html.escape(x) for x in lines)),
+            "**Load flags (%d)**\n\n%s\n" % (len(lines), "".join("- %s\n" % x for x in lines)))
+
+
+def verification(out):
+    """verification.json (None when the suite ran no checks) and its table's rows."""
+    vpath = os.path.join(out, "verification.json")
+    if not os.path.exists(vpath):
+        return None, []
+    with open(vpath) as f:
+        ver = json.load(f)
+    rows = [[c["scene"], c["formulation"] + (" / " + c["variant"] if c.get("variant") else ""),
+             c["metric"], "%.3e" % c["value"] if "value" in c else "-", "%.1e" % c["tolerance"],
+             ("pass" if c["pass"] else "FAIL") + (": " + c["note"] if c.get("note") else ""), c.get("issue", "")]
+            for c in ver["checks"]]
+    return ver, rows
+
+
 def main(out):
     with open(os.path.join(out, "suite.json")) as f:
         suite = json.load(f)
@@ -87,60 +126,62 @@ def main(out):
         if r["case"] not in scenes:
             scenes.append(r["case"])
     os.makedirs(os.path.join(out, "report_files"), exist_ok=True)
-    summary_rows, sections_html, sections_md = [], [], []
+    summary_rows, sections_html, sections_md, flags = [], [], [], {}
     for sc in scenes:
         rs = [r for r in runs if r["case"] == sc]
         base = [r for r in rs if not r["variant"]]
-        ref = next((r for name in REFERENCE_ORDER for r in base
-                    if r["formulation"] == name and r["exit_code"] == 0 and r["load_col"]), None)
+        ref = reference_run(base)
         for r in base:
             diffs = load_differences(r, ref) if ref and r is not ref else (float("nan"),) * 3
             summary_rows.append([sc, r["formulation"], ref["formulation"] if ref and r is not ref else "-"]
                                 + ["%.2e" % x if x == x else "-" for x in diffs]
                                 + ["%.1f" % r["wall_time_s"], r["summary"].get("status", "missing")])
         imgs_html, imgs_md = scene_figures(out, sc, rs)
+        lines = scene_flags(rs, ref)
+        flags[sc] = len(lines)
+        fh, fm = flags_block(lines)
         table = [run_row(r) for r in rs]
         desc = next((r["summary"].get("parameters", {}).get("run", {}).get("description", "") for r in rs), "")
-        sections_html.append("<h2>%s</h2><p>%s</p>%s%s" % (html.escape(sc), html.escape(desc), imgs_html,
-                                                           html_table(HEADER, table)))
-        sections_md.append("## %s\n\n%s\n\n%s%s\n" % (sc, desc, imgs_md, md_table(HEADER, table)))
+        sections_html.append("<h2 id='%s'>%s</h2><p>%s</p>%s%s%s" % (
+            anchor("scene", sc), html.escape(sc), html.escape(desc), fh, imgs_html, html_table(HEADER, table)))
+        sections_md.append("## %s\n\n%s\n\n%s%s%s\n" % (sc, desc, fm, imgs_md, md_table(HEADER, table)))
     sum_header = ["scene", "formulation", "reference", "load difference: largest", "median",
                   "largest past 1/4 stroke", "wall time (s)", "status"]
     intro = ("Each scene with every formulation that applies. Load differences are relative differences of the "
              "press load from the reference formulation's (direct where it ran, else ipopt) at the recorded "
              "strokes: the largest, the median, and the largest past the first quarter of the stroke (early on, "
-             "nodes land one ring at a time at slightly different strokes in different formulations).")
-    # The verification checks (rpfem verify), if the suite ran them.
+             "nodes land one ring at a time at slightly different strokes in different formulations). " + RULE)
+    ver, ver_rows = verification(out)
     ver_header = ["scene", "formulation", "metric", "value", "tolerance", "result", "issue"]
-    ver_rows, ver_failed = [], 0
-    vpath = os.path.join(out, "verification.json")
-    if os.path.exists(vpath):
-        with open(vpath) as f:
-            ver = json.load(f)
-        for c in ver["checks"]:
-            ver_rows.append([c["scene"], c["formulation"] + (" / " + c["variant"] if c.get("variant") else ""),
-                             c["metric"], "%.3e" % c["value"] if "value" in c else "-", "%.1e" % c["tolerance"],
-                             ("pass" if c["pass"] else "FAIL") + (": " + c["note"] if c.get("note") else ""),
-                             c.get("issue", "")])
-        ver_failed = ver["failed"]
-    ver_title = "Verification checks: %d, %d failed" % (len(ver_rows), ver_failed)
-    ver_html = "<h2>%s</h2>%s" % (ver_title, html_table(ver_header, ver_rows)) if ver_rows else ""
+    ver_title = "Verification checks: %d, %d failed" % (len(ver_rows), ver["failed"] if ver else 0)
+    ver_html = ("<h2 id='verification'>%s</h2>%s" % (ver_title, html_table(ver_header, ver_rows))
+                if ver_rows else "")
     ver_md = "## %s\n\n%s\n" % (ver_title, md_table(ver_header, ver_rows)) if ver_rows else ""
     studies_html, studies_md = studies_section(out, suite.get("studies", []))
+    verdict_html, verdict_md = verdict(suite, runs, ver, flags)
+    toc = [("summary", "Summary: load differences and wall times", [])]
+    toc += [("verification", ver_title, [])] if ver_rows else []
+    toc += [("scenes", "Scenes (%d)" % len(scenes),
+             [(anchor("scene", sc), sc + (" (%d flags)" % flags[sc] if flags[sc] else "")) for sc in scenes])]
+    toc += [("studies", "Studies (%d)" % len(suite["studies"]),
+             [(anchor("study", e["study"]), e["study"]) for e in suite["studies"]])] if suite.get("studies") else []
+    toc += [("provenance", "Provenance", [])]
+    prov_html, prov_md = provenance(provenance_rows(out, suite, runs))
     with open(os.path.join(out, "report.html"), "w") as f:
-        f.write("<!DOCTYPE html><html><head><meta charset='utf-8'><title>rpfem suite report</title>"
-                "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:collapse}"
-                "td,th{border:1px solid #999;padding:2px 6px;text-align:right}img{max-width:100%%}</style></head><body>"
-                "<h1>rpfem suite report</h1><p>%s</p>%s%s%s%s</body></html>\n"
-                % (html.escape(intro), html_table(sum_header, summary_rows), ver_html, "".join(sections_html),
-                   studies_html))
+        f.write(page("<h1>rpfem suite report</h1>%s%s%s<h2 id='summary'>Summary</h2><p>%s</p>%s%s"
+                     "<h2 id='scenes'>Scenes</h2>%s%s"
+                     % (verdict_html, contents(toc), prov_html, html.escape(intro),
+                        html_table(sum_header, summary_rows), ver_html, "".join(sections_html), studies_html)))
     with open(os.path.join(out, "report.md"), "w") as f:
-        f.write("# rpfem suite report\n\n%s\n\n%s\n%s\n%s\n%s" % (intro, md_table(sum_header, summary_rows), ver_md,
-                                                                 "\n".join(sections_md), studies_md))
+        f.write("# rpfem suite report\n\n%s\n%s\n## Summary\n\n%s\n\n%s\n%s\n%s\n%s"
+                % (verdict_md, prov_md, intro, md_table(sum_header, summary_rows), ver_md,
+                   "\n".join(sections_md), studies_md))
     print(os.path.abspath(os.path.join(out, "report.html")))
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
-        sys.exit("usage: make_report.py SUITE_OUT")
-    main(sys.argv[1])
+    args = [a for a in sys.argv[1:] if a != "--single-file"]
+    if len(args) != 1:
+        sys.exit("usage: make_report.py SUITE_OUT [--single-file]")
+    INLINE["on"] = "--single-file" in sys.argv[1:]
+    main(args[0])

@@ -9,7 +9,7 @@ import html
 import math
 
 from plotting import draw_or_skip
-from report_html import figure, html_table, md_table, note
+from report_html import anchor, figure, html_table, md_table, note
 from study_figures import DRAW, compared, finished, richardson_groups
 from study_results import kind, load_study, short, size
 
@@ -25,7 +25,7 @@ def caption(s, k):
                 "load's relative difference from the %s reference run, largest over the strokes and at the last "
                 "stroke; Newton iterations per step, median and max (dashed: the %g limit); the least reciprocal "
                 "condition estimate of the tangents. Shaded: the usable window (finished, both limits met). x: runs "
-                "that did not finish (the reason is in the table)."
+                "that did not finish (the reason is in the notes under the table)."
                 % (short(s["axes"][0]), w.get("max_penetration_rel", 1e-3), ref.get("formulation", ""),
                    w.get("max_iterations", 10)))
     if k == "convergence":
@@ -59,8 +59,8 @@ def findings(s):
     meta, lines = s["meta"], []
     done = finished(s["rows"])
     if len(done) < len(s["rows"]):
-        lines.append("%d of %d runs did not finish (the reasons are in the table)." % (len(s["rows"]) - len(done),
-                                                                                      len(s["rows"])))
+        lines.append("%d of %d runs did not finish (the reasons are in the notes under the table)."
+                     % (len(s["rows"]) - len(done), len(s["rows"])))
     ref = meta.get("reference", {})
     for label, g, rows in richardson_groups(s):
         # The group names the other axes' values; "(all runs)" when there are none.
@@ -128,11 +128,24 @@ def table(s):
     return [c[0] for c in cols], rows
 
 
+def footnoted(header, rows):
+    """The table with its reasons (the last column, prose) as numbered notes
+    under it, one number per distinct reason: header, rows, notes."""
+    if not header or header[-1] != "reason":
+        return header, rows, []
+    notes = []
+    for r in rows:
+        if r[-1] and r[-1] not in notes:
+            notes.append(r[-1])
+    return header[:-1] + ["note"], [r[:-1] + ["(%d)" % (notes.index(r[-1]) + 1) if r[-1] else ""] for r in rows], notes
+
+
 def study_block(out, entry):
     """One study's part of the section: (HTML, Markdown)."""
     s = load_study(out, entry)
     title = "%s (%s%s)" % (entry["study"], entry.get("case", ""), ", quick grid" if entry.get("quick") else "")
-    h, m = "<h3>%s</h3><p>%s</p>" % (html.escape(title), html.escape(entry.get("description", ""))), \
+    h, m = "<h3 id='%s'>%s</h3><p>%s</p>" % (anchor("study", entry["study"]), html.escape(title),
+                                             html.escape(entry.get("description", ""))), \
         "### %s\n\n%s\n\n" % (title, entry.get("description", ""))
     if s["error"]:
         nh, nm = note("No table: %s" % s["error"])
@@ -150,8 +163,11 @@ def study_block(out, entry):
     h += "".join("<p>%s</p>" % html.escape(x) for x in lines)
     m += "".join("%s\n\n" % x for x in lines)
     header, rows = table(s)
-    return (h + html_table(header, rows) + "<p>Table: %s</p>" % html.escape(entry["table"]),
-            m + md_table(header, rows) + "\nTable: %s\n\n" % entry["table"])
+    header, rows, notes = footnoted(header, rows)
+    foot_h = "<ol class='footnotes'>%s</ol>" % "".join("<li>%s</li>" % html.escape(x) for x in notes) if notes else ""
+    foot_m = "".join("%d. %s\n" % (i + 1, x) for i, x in enumerate(notes)) + "\n" if notes else ""
+    return (h + html_table(header, rows) + foot_h + "<p>Table: %s</p>" % html.escape(entry["table"]),
+            m + md_table(header, rows) + "\n" + foot_m + "Table: %s\n\n" % entry["table"])
 
 
 def studies_section(out, entries):
@@ -161,5 +177,5 @@ def studies_section(out, entries):
     intro = ("Studies of cases/studies run by the suite (rpfem sweep's tables, docs/sweeps.md): one scene over a "
              "grid of numerical parameters, a row per run.")
     blocks = [study_block(out, e) for e in entries]
-    return ("<h2>Studies</h2><p>%s</p>%s" % (html.escape(intro), "".join(b[0] for b in blocks)),
+    return ("<h2 id='studies'>Studies</h2><p>%s</p>%s" % (html.escape(intro), "".join(b[0] for b in blocks)),
             "## Studies\n\n%s\n\n%s" % (intro, "".join(b[1] for b in blocks)))

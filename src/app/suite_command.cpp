@@ -19,6 +19,7 @@
 #include "io/variants.hpp"
 #include "app/verify_command.hpp"
 #include "core/types.hpp"
+#include "core/version.hpp"
 #include "factory.hpp"
 #include "io/case_file.hpp"
 #include "io/result_writer.hpp"
@@ -127,7 +128,17 @@ void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs, const
     study_list.push_back(t);
   }
   std::ostringstream os;
-  os << toml::json_formatter{toml::table{{"runs", runs}, {"studies", study_list}}} << "\n";
+  // The program that ran the suite, for the report's provenance: the
+  // executable (its BLAS is what ldd resolves), version and compiler.
+#if defined(__clang__)
+  const std::string compiler = std::string("clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  const std::string compiler = std::string("GCC ") + __VERSION__;
+#else
+  const std::string compiler = "unknown";
+#endif
+  const toml::table program{{"path", self_executable()}, {"version", kVersion}, {"compiler", compiler}};
+  os << toml::json_formatter{toml::table{{"program", program}, {"runs", runs}, {"studies", study_list}}} << "\n";
   write_text_atomically(opt.out_dir + "/suite.json", os.str());
 }
 

@@ -8,13 +8,15 @@
 //   OUT/<case>/<formulation>/<variant>/ variants (the scene's formulation)
 //   OUT/studies/<study>/                a study's runs and tables, as `rpfem
 //                                       sweep` writes them (sweep.csv, .h5, .json)
-//   OUT/suite.json                      the runs: case, formulation, variant,
-//                                       folder, exit code, wall time; the
-//                                       studies: folder, tables, runs stopped
+//   OUT/suite.json                      the program (executable, version,
+//                                       compiler); the runs: case, formulation,
+//                                       variant, folder, exit code, wall time;
+//                                       the studies: folder, tables, runs stopped
 //   OUT/verification.json               the checks of the scenes that ran
 //                                       (`rpfem verify`; a failed check is
 //                                       reported, it does not stop the suite)
-//   OUT/report.html, OUT/report.md      reports/make_report.py
+//   OUT/report.html, OUT/report.md      reports/make_report.py (figures in
+//                                       OUT/report_files/)
 #pragma once
 #include <string>
 #include <vector>
