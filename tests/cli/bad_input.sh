@@ -100,10 +100,10 @@ expect verify-not-a-suite "verify: '$tmp/notasuite' is not a suite's folder (no 
   "$rpfem" verify "$tmp/notasuite"
 # A body far larger than its elements, or far from the origin: nodes
 # double precision cannot merge (the merge grid's integer cells overflowed).
-expect mesh-extent "mesh of 'billet': coordinates beyond double precision's range" -- \
+expect mesh-extent "upsetting_frictionless_axisym.toml: key 'bodies.billet.mesh': coordinates beyond double precision's range" -- \
   "$rpfem" run "$base" --out "$tmp/o28" --set bodies.billet.mesh.width=1e308
-expect mesh-offset "mesh of 'billet': coordinates up to 1e+13 mm" -- \
+expect mesh-offset "upsetting_frictionless_plane.toml: key 'bodies.billet.mesh': coordinates up to 1e+13 mm" -- \
   "$rpfem" run "$src/cases/upsetting_frictionless_plane.toml" --out "$tmp/o29" --set bodies.billet.mesh.x0=1e13
-expect mesh-overflow "mesh of 'upper': coordinates beyond double precision's range" -- \
+expect mesh-overflow "paper_test1_double_action.toml: key 'bodies.upper.mesh': coordinates beyond double precision's range" -- \
   "$rpfem" run "$src/cases/paper_test1_double_action.toml" --out "$tmp/o30" --set bodies.upper.mesh.radius=1e308
 exit $fail
