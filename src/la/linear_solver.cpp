@@ -3,16 +3,14 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <vector>
+
+#include "core/timing.hpp"
 
 namespace rpfem {
 
 namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Eigen's wrappers keep the factors protected: these read their condition
 // estimates.
@@ -66,7 +64,7 @@ LinearSolver::LinearSolver(LinearSolverChoice choice) : impl_(std::make_unique<I
 LinearSolver::~LinearSolver() = default;
 
 bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t pattern_version) {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   const bool try_llt = choice_ == LinearSolverChoice::Cholmod || (choice_ == LinearSolverChoice::Auto && symmetric);
   ++stats_.factorizations;
   held_pattern_ = 0;
@@ -76,7 +74,7 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
       impl_->llt_pattern = pattern_version;
       ++stats_.analyses;
       stats_.analyze_seconds += seconds_since(t0);
-      t0 = std::chrono::steady_clock::now();
+      t0 = Clock::now();
     }
     impl_->llt.factorize(A);
     stats_.factor_seconds += seconds_since(t0);
@@ -92,14 +90,14 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
       return false;
     }
     ++stats_.cholesky_fallbacks;  // indefinite: fall through to LU
-    t0 = std::chrono::steady_clock::now();
+    t0 = Clock::now();
   }
   if (impl_->lu_pattern != pattern_version) {
     impl_->lu.analyzePattern(A);
     impl_->lu_pattern = pattern_version;
     ++stats_.analyses;
     stats_.analyze_seconds += seconds_since(t0);
-    t0 = std::chrono::steady_clock::now();
+    t0 = Clock::now();
   }
   impl_->lu.factorize(A);
   stats_.factor_seconds += seconds_since(t0);
@@ -124,7 +122,7 @@ void LinearSolver::note_rcond(double rcond) {
 }
 
 Vec LinearSolver::solve(const Vec& b) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   Vec x = impl_->use_lu ? Vec(impl_->lu.solve(b)) : Vec(impl_->llt.solve(b));
   stats_.solve_seconds += seconds_since(t0);
   return x;

@@ -1,9 +1,9 @@
 #include "model/step_problem.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <map>
 
+#include "core/timing.hpp"
 #include "fem/edge_weights.hpp"
 #include "model/element_loop.hpp"
 #include "model/scene.hpp"
@@ -11,13 +11,6 @@
 namespace rpfem {
 
 namespace {
-
-// Adds the seconds since `t0` to `total` and restarts t0.
-void lap(std::chrono::steady_clock::time_point& t0, double& total) {
-  const auto now = std::chrono::steady_clock::now();
-  total += std::chrono::duration<double>(now - t0).count();
-  t0 = now;
-}
 
 // Sinks for the contact terms.
 struct EnergySink : TermSink {
@@ -114,7 +107,7 @@ RigidPlasticInput StepProblem::element_input(Index e, const std::vector<Vec2>& v
 }
 
 double StepProblem::energy(const Vec& u) const {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   std::vector<Vec2> v;
   ws_.dofs.expand(u, v);
   const Index ne = view_.mesh->num_elements();
@@ -132,7 +125,7 @@ double StepProblem::energy(const Vec& u) const {
 }
 
 double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   F.assign(v.size(), Vec2::Zero());
   const Index ne = view_.mesh->num_elements();
   std::vector<Vec8>& grad = ws_.element_forces;
@@ -172,7 +165,7 @@ void StepProblem::residual(const Vec& u, Vec& R, double& scale) const {
 }
 
 const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   std::vector<Vec2> v;
   ws_.dofs.expand(u, v);
   ws_.assembler.set_zero();

@@ -1,11 +1,11 @@
 #include "model/stepper.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
+#include "core/timing.hpp"
 #include "mesh/quality.hpp"
 #include "model/die_interference.hpp"
 #include "model/boundary.hpp"
@@ -14,10 +14,6 @@
 namespace rpfem {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 std::string sci(double x) {
   char buf[32];
@@ -181,9 +177,10 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
   problem.set_force_floor(derived_.force_floor);
-  const auto contact_start = std::chrono::steady_clock::now();
-  contact_.begin_step(sv);
-  ws_.contact_seconds += seconds_since(contact_start);
+  {
+    ScopedSeconds timing(ws_.contact_seconds);
+    contact_.begin_step(sv);
+  }
   ws_.linear.reset_rcond();
   // A failed solve keeps the least condition estimate it met (the stop
   // reason reports it).
@@ -198,9 +195,10 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   bool warm = false;  // the pass re-solves after a small change (StepCheck::warm)
   for (sol.passes = 1; sol.passes <= kMaxPasses; ++sol.passes) {
     std::vector<NodeConstraint> cons = bc_.constraints;
-    const auto constraints_start = std::chrono::steady_clock::now();
-    contact_.constraints(sv, cons);
-    ws_.contact_seconds += seconds_since(constraints_start);
+    {
+      ScopedSeconds timing(ws_.contact_seconds);
+      contact_.constraints(sv, cons);
+    }
     try {
       problem.set_constraints(cons);
     } catch (const std::invalid_argument& e) {
@@ -228,9 +226,11 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
     if (!r.converged) return fail(r.reason);
     problem.dofs().expand(u, v);
     problem.nodal_forces(v, sol.F);
-    const auto settle_start = std::chrono::steady_clock::now();
-    StepCheck check = contact_.settle(sv, v, sol.F);
-    ws_.contact_seconds += seconds_since(settle_start);
+    StepCheck check;
+    {
+      ScopedSeconds timing(ws_.contact_seconds);
+      check = contact_.settle(sv, v, sol.F);
+    }
     sol.events.insert(sol.events.end(), check.events.begin(), check.events.end());
     warm = check.warm;
     if (!check.resolve) break;
