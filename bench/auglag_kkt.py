@@ -57,7 +57,7 @@ def main():
     for scene, load, extra in SCENES:
         for enf in ("auglag", "penalty", "ipopt"):
             d = os.path.join(out, scene, enf)
-            cmd = [rpfem, "run", os.path.join(src, "cases", scene + ".toml"), "--out", d, "-f", enf, "--quiet"] + extra + quick
+            cmd = [rpfem, "run", os.path.join(src, "cases", scene + ".toml"), "--out", d, "--force", "-f", enf, "--quiet"] + extra + quick
             jobs.append((scene, enf, d, cmd))
 
     def run(job):

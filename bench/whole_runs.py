@@ -33,7 +33,7 @@ PARTS = ["assembly", "residual", "contact", "factorization", "triangular_solves"
 
 def run(rpfem, case, args, out, extra):
     src = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    cmd = [rpfem, "run", os.path.join(src, "cases", case + ".toml"), "--out", out, "--quiet"] + args + extra
+    cmd = [rpfem, "run", os.path.join(src, "cases", case + ".toml"), "--out", out, "--force", "--quiet"] + args + extra
     subprocess.run(cmd, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)

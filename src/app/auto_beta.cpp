@@ -107,9 +107,9 @@ int auto_beta_command(const CalibrateOptions& opt) {
   s.mode = "auto_beta", s.case_name = pc.scene->name, s.formulation = "penalty", s.key = kKey;
   s.lo = bounds[0], s.hi = bounds[1], s.x0 = x0, s.xtol = opt.xtol.value_or(0.01), s.algorithm = nlopt::LN_COBYLA;
   if (!(s.xtol > 0)) throw InputError("--xtol: expected a positive number (decades of beta_factor)");
+  claim_output_folder(opt.out_dir, opt.force ? ExistingOutput::Replace : ExistingOutput::Refuse);
   CachedRuns runs({opt.case_file, "penalty", opt.overrides, kKey, opt.out_dir, opt.engine}, largest_penetration);
 
-  make_output_folder(opt.out_dir);
   if (!opt.quiet) print_search_start(s, tol, opt.out_dir);
   auto penetration = [&](double factor) {
     bool cached = false;

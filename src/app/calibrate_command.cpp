@@ -150,12 +150,12 @@ int fit_curve(const CalibrateOptions& opt) {
   RunSpec spec{opt.case_file, opt.formulation, opt.overrides, opt.param, opt.out_dir, opt.engine};
   spec.overrides.insert(spec.overrides.end(), s.run_overrides.begin(), s.run_overrides.end());
   const std::string option = ring ? "--monitor" : "--load";
+  claim_output_folder(opt.out_dir, opt.force ? ExistingOutput::Replace : ExistingOutput::Refuse);
   CachedRuns runs(spec, [&](const History& h, const std::string& path) {
     return misfit_of(target, cmp, h, path, option);
   });
   const std::string unit = ring ? "percentage points" : "relative";
 
-  make_output_folder(opt.out_dir);
   if (!opt.quiet) print_fit_start(opt, s, target, cmp, unit);
   auto misfit = [&](double x) {
     bool cached = false;

@@ -33,6 +33,7 @@ struct CalibrateOptions {
   int max_evals = 50;
   EngineOptions engine;                // where the evaluations run (local or Slurm)
   bool quiet = false;
+  bool force = false;  // --force: a non-empty out_dir is cleared of earlier outputs (else refused)
 };
 
 // Exit code: 0 a result, 2 bad input, 3 a run failed (or no beta_factor in

@@ -15,6 +15,10 @@
 
 namespace {
 
+constexpr const char* kForceHelp =
+    "use a non-empty --out: what an earlier rpfem command wrote there is removed first (other files are kept); "
+    "without it a non-empty --out is refused";
+
 // `rpfem run`: one case.
 CLI::App* add_run(CLI::App& app, rpfem::RunOptions& run) {
   std::string formulation_help =
@@ -31,6 +35,8 @@ CLI::App* add_run(CLI::App& app, rpfem::RunOptions& run) {
   run_cmd->add_option("--variant", run.variant,
                       "run a [[variants]] entry of the case (its overrides, then --set's); 'all': each into OUT/NAME");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress output");
+  run_cmd->add_flag("--force", run.force,
+                    kForceHelp);
   return run_cmd;
 }
 
@@ -58,6 +64,12 @@ void pool_options(CLI::App* cmd, Options& o, const std::string& cases_help, cons
   cmd->add_option("--jobs,-j", o.jobs, "runs in parallel (default: the machine's cores)");
   cmd->add_flag("--quick", o.quick, quick_help);
   cmd->add_flag("--quiet,-q", o.quiet, "no progress output");
+  auto* force = cmd->add_flag("--force", o.force,
+                              std::string(kForceHelp) + " (or --resume)");
+  cmd->add_flag("--resume", o.engine.resume,
+                "use a non-empty --out and keep its finished runs of the same request (case, formulation, variant, "
+                "--set values); run the rest")
+      ->excludes(force);
   engine_options(cmd, o.engine);
 }
 
@@ -143,6 +155,8 @@ CLI::App* add_calibrate(CLI::App& app, rpfem::CalibrateOptions& cal) {
                                           "beta_factor, default 0.01)");
   cal_cmd->add_option("--max-evals", cal.max_evals, "NLopt's evaluation limit")->capture_default_str();
   cal_cmd->add_flag("--quiet,-q", cal.quiet, "no progress output");
+  cal_cmd->add_flag("--force", cal.force,
+                    kForceHelp);
   engine_options(cal_cmd, cal.engine);
   return cal_cmd;
 }

@@ -34,6 +34,22 @@ const std::vector<std::string>& run_files() {
   return names;
 }
 
+// What the commands write beside the runs' files: a pool's per-run log
+// and exit code, the suite's, sweeps' and calibrations' tables and JSON,
+// the report; and the folders of the report's figures and the Slurm
+// engine.
+const std::vector<std::string>& command_files() {
+  static const std::vector<std::string> names{
+      "run.log",         "exit_code",    "suite.json",      "verification.json", "report.html",
+      "report.md",       "sweep.csv",    "sweep.h5",        "sweep.json",        "evaluations.csv",
+      "calibration.json"};
+  return names;
+}
+const std::vector<std::string>& command_folders() {
+  static const std::vector<std::string> names{"report_files", "slurm"};
+  return names;
+}
+
 struct HeldLock {
   std::string path;  // the lock file's
   int fd;
@@ -149,6 +165,57 @@ void make_output_folder(const std::string& dir, const std::string& option) {
   if (ec) throw InputError(option + " '" + dir + "': cannot create the output folder: " + ec.message());
   if (!fs::is_directory(dir, ec)) throw InputError(option + " '" + dir + "': not a folder after creating it");
   lock(dir, option);
+}
+
+void claim_output_folder(const std::string& dir, ExistingOutput existing, bool resume_hint,
+                         const std::string& option) {
+  make_output_folder(dir, option);
+  if (existing == ExistingOutput::Resume) return;
+  std::error_code ec;
+  std::vector<std::string> held_names;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.path().filename() != kLockName) held_names.push_back(entry.path().filename().string());
+  if (held_names.empty()) return;
+  if (existing == ExistingOutput::Replace) {
+    remove_previous_outputs(dir);
+    return;
+  }
+  std::sort(held_names.begin(), held_names.end());
+  std::string listed;
+  for (std::size_t i = 0; i < held_names.size() && i < 3; ++i) listed += (i ? ", " : "") + held_names[i];
+  if (held_names.size() > 3) listed += ", ... (" + std::to_string(held_names.size()) + " entries)";
+  throw InputError(option + " '" + dir + "': not empty (" + listed +
+                   "); expected a new or empty folder, or --force to replace what an earlier rpfem command wrote "
+                   "there" +
+                   (resume_hint ? " (--resume: keep its finished runs)" : ""));
+}
+
+void remove_previous_outputs(const std::string& dir) {
+  std::error_code ec;
+  // Deepest folders first, so that a folder emptied below is removed too.
+  std::vector<fs::path> folders;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec) && !it->is_symlink(ec)) folders.push_back(it->path());
+  std::sort(folders.begin(), folders.end(), [](const fs::path& a, const fs::path& b) {
+    return std::distance(a.begin(), a.end()) > std::distance(b.begin(), b.end());
+  });
+  const auto clear = [&](const fs::path& d) {
+    remove_run_results(d.string());
+    for (const auto& name : command_files()) {
+      fs::remove(d / name, ec);
+      fs::remove(d / (name + ".tmp"), ec);
+    }
+    for (const auto& name : command_folders())
+      if (fs::is_directory(d / name, ec) && !fs::is_symlink(d / name, ec)) fs::remove_all(d / name, ec);
+  };
+  for (const auto& d : folders) {
+    if (!fs::exists(d, ec)) continue;  // inside a folder removed whole (report_files/, slurm/)
+    make_output_folder(d.string(), "folder");
+    clear(d);
+    unlock(d.string());
+    fs::remove(d, ec);  // only if nothing else is left in it
+  }
+  clear(dir);
 }
 
 void remove_run_results(const std::string& dir) {

@@ -19,6 +19,32 @@ namespace rpfem {
 // in use the pid of the process that holds it.
 void make_output_folder(const std::string& dir, const std::string& option = "--out");
 
+// What a command does with a folder that already holds something.
+enum class ExistingOutput {
+  Refuse,   // bad input: a new or empty folder is expected (the default)
+  Replace,  // --force: what rpfem wrote there before is removed first
+  Resume,   // --resume (pools): kept; finished runs are not run again
+};
+
+// The top-level --out of a command: make_output_folder, then a folder
+// that holds anything (a stale lock file aside) is refused, cleared of
+// earlier outputs or kept, as `existing` says. `resume_hint`: the command
+// has --resume (named in the refusal).
+// --force and --resume as one choice (both: --resume; CLI11 excludes it).
+inline ExistingOutput existing_output(bool force, bool resume) {
+  return resume ? ExistingOutput::Resume : force ? ExistingOutput::Replace : ExistingOutput::Refuse;
+}
+void claim_output_folder(const std::string& dir, ExistingOutput existing, bool resume_hint = false,
+                         const std::string& option = "--out");
+
+// Removes, in `dir` and every folder below it, what rpfem commands write:
+// the runs' files (as remove_run_results, and a pool's run.log and
+// exit_code), the suite's, sweeps' and calibrations' tables and JSON, the
+// report (report.html, report.md, report_files/) and the Slurm engine's
+// folder (slurm/); then the subfolders left empty. Anything else is kept.
+// A run folder below that another rpfem process owns is bad input.
+void remove_previous_outputs(const std::string& dir);
+
 // What a run leaves in its folder (result.h5, result.xdmf, history.csv,
 // summary.json, events.csv, and the temporaries they are written under):
 // removed before a run writes, so nothing of a previous run is left to be

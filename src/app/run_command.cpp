@@ -41,9 +41,17 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
                       {"discretization", info.discretization},
                       {"version", kVersion},
                       {"parameters", file.used()}};
-  toml::array ov;
+  toml::array ov, user_set;
   for (const auto& o : overrides) ov.push_back(o);
+  for (const auto& o : opt.overrides) user_set.push_back(o);
   summary.insert("overrides", ov);
+  // The command line's own choices: what a resumed pool compares a
+  // finished run with (app/run_engine.hpp).
+  summary.insert("request", toml::table{{"case_file", std::filesystem::absolute(opt.case_file).string()},
+                                        {"formulation", opt.formulation},
+                                        {"discretization", opt.discretization},
+                                        {"variant", variant ? variant->name : std::string()},
+                                        {"set", user_set}});
   summary.insert("mesh", toml::table{{"nodes", scene.mesh.num_nodes()},
                                      {"elements", scene.mesh.num_elements()},
                                      {"min_scaled_jacobian", q.min_scaled_jacobian},
@@ -83,7 +91,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
 }  // namespace
 
 int run_command(const RunOptions& opt) {
-  make_output_folder(opt.out_dir);
+  claim_output_folder(opt.out_dir, opt.force ? ExistingOutput::Replace : ExistingOutput::Refuse);
   if (opt.variant.empty()) return run_one(opt, nullptr, opt.out_dir);
   CaseFile probe(opt.case_file);
   const std::vector<Variant> variants = read_variants(probe.root());

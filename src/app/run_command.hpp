@@ -13,6 +13,7 @@ struct RunOptions {
   std::vector<std::string> overrides;
   std::string variant;  // empty: the base case; "all": every variant into out_dir/NAME
   bool quiet = false;
+  bool force = false;  // --force: a non-empty out_dir is cleared of earlier outputs (else refused)
 };
 
 // Returns the process exit code: 0 finished, 2 bad input, 3 stopped early

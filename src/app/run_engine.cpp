@@ -24,6 +24,18 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Whether r's folder holds a finished run of the same request.
+bool finished_before(const PoolRun& r) {
+  const Summary s(r.dir);
+  if (s.string("status").value_or("") != "finished") return false;
+  std::error_code ec;
+  const fs::path want = fs::weakly_canonical(fs::absolute(r.case_file), ec);
+  const fs::path had = fs::weakly_canonical(s.string("request.case_file").value_or(""), ec);
+  return want == had && s.string("request.formulation").value_or("?") == r.formulation &&
+         s.string("request.discretization").value_or("?").empty() &&
+         s.string("request.variant").value_or("?") == r.variant && s.strings("request.set") == r.overrides;
+}
+
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
@@ -71,14 +83,12 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
   fs::create_directories(slurm_dir);
   const auto t0 = Clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
-  // Finished before (this folder's earlier run of the same command): kept.
+  // Kept from an earlier run of the same command (--resume): rc set.
   std::vector<std::size_t> todo;
   std::vector<RunClock> clocks(runs.size());
   int done = 0;
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const Summary summary(runs[i].dir);
-    if (summary.string("status").value_or("") == "finished") {
-      runs[i].rc = 0, runs[i].seconds = summary.number("wall_time_s").value_or(0.0);
+    if (runs[i].rc == 0) {
       clocks[i].ended = true;
       ++done;
       continue;
@@ -159,7 +169,7 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
     std::this_thread::sleep_for(std::chrono::duration<double>(o.poll_seconds));
     if (g_interrupted) {
       capture_shell("scancel " + shell_quote(job_list));
-      std::fprintf(stderr, "rpfem: interrupted: cancelled Slurm job(s) %s; run the same command again to resume\n",
+      std::fprintf(stderr, "rpfem: interrupted: cancelled Slurm job(s) %s; run the same command with --resume to resume\n",
                    job_list.c_str());
       std::exit(130);
     }
@@ -226,6 +236,10 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
 
 void run_runs(std::vector<PoolRun>& runs, const std::string& work_dir, const EngineOptions& engine, int jobs,
               bool quiet) {
+  for (auto& r : runs) r.rc = -1;
+  if (engine.resume)
+    for (auto& r : runs)
+      if (finished_before(r)) r.rc = 0, r.seconds = Summary(r.dir).number("wall_time_s").value_or(0.0);
   if (engine.engine == "local")
     run_pool(runs, jobs, quiet);
   else if (engine.engine == "slurm")

@@ -15,9 +15,13 @@
 // Each task writes its run's exit code to DIR/exit_code; a task that ends
 // without one (cancelled, out of time, its node lost, or a folder the node
 // cannot write) is reported with its Slurm state and exit code, appended to
-// DIR/run.log. Runs whose summary.json says finished are not submitted
-// again: the same command on the same folder resumes a study. Ctrl-C (or
-// SIGTERM) cancels the arrays (scancel) and exits 130.
+// DIR/run.log. Ctrl-C (or SIGTERM) cancels the arrays (scancel) and exits
+// 130.
+//
+// With --resume (either engine), a run whose summary.json says finished
+// and whose request (case file, formulation, discretization, variant and
+// --set values: summary.json's "request") is this run's is not run again:
+// the same command on the same folder resumes a study.
 #pragma once
 #include <string>
 #include <vector>
@@ -36,6 +40,7 @@ struct SlurmOptions {
 struct EngineOptions {
   std::string engine = "local";  // "local" or "slurm"
   SlurmOptions slurm;
+  bool resume = false;  // --resume: a run whose folder holds the same request, finished, is not run again
 };
 
 // Runs `runs` (their rc and seconds filled). work_dir holds the engine's

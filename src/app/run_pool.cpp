@@ -99,7 +99,7 @@ void print_progress(const std::vector<PoolRun>& runs, const std::vector<RunClock
 }
 
 std::string run_command(const PoolRun& r, const std::string& self) {
-  std::string cmd = shell_quote(self) + " run " + shell_quote(r.case_file) + " --out " + shell_quote(r.dir) + " --quiet";
+  std::string cmd = shell_quote(self) + " run " + shell_quote(r.case_file) + " --out " + shell_quote(r.dir) + " --quiet --force";
   if (!r.formulation.empty()) cmd += " --formulation " + shell_quote(r.formulation);
   if (!r.variant.empty()) cmd += " --variant " + shell_quote(r.variant);
   for (const auto& o : r.overrides) cmd += " --set " + shell_quote(o);
@@ -130,8 +130,14 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
   std::vector<RunClock> slots(runs.size());
   const auto t0 = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  // Runs the caller marked finished before (rc 0: resumed) are not run.
+  std::vector<char> kept(runs.size(), 0);
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    if (runs[i].rc == 0) kept[i] = 1, slots[i].ended = true, ++done;
+  const int kept_count = done;
   auto work = [&] {
     for (std::size_t i; (i = next++) < runs.size();) {
+      if (kept[i]) continue;
       {
         std::lock_guard<std::mutex> lock(print);
         slots[i].start = Clock::now();
@@ -152,7 +158,11 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
       }
     }
   };
-  if (!quiet) std::printf("%zu runs on %d workers\n", runs.size(), workers);
+  if (!quiet) {
+    std::printf("%zu runs on %d workers", runs.size(), workers);
+    if (kept_count) std::printf(" (%d finished before, kept)", kept_count);
+    std::printf("\n");
+  }
   std::vector<std::thread> pool;
   for (int w = 0; w < workers; ++w) pool.emplace_back(work);
   // Progress of the runs in flight every 10 s.

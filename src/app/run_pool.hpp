@@ -22,6 +22,7 @@ struct PoolRun {
   double seconds = 0;     // wall time
 };
 
+// Runs whose rc is 0 on entry (finished before, resumed) are not run.
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet);
 
 // Where a run of a pool or an array is: queued, running since start, ended.

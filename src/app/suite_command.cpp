@@ -148,7 +148,7 @@ int suite_command(const SuiteOptions& options) {
   SuiteOptions opt = options;
   if (opt.quick) opt.overrides.insert(opt.overrides.begin(), "run.mesh_factor=0.5");
   if (!fs::is_directory(opt.cases_dir)) throw InputError(opt.cases_dir + ": no such cases folder");
-  make_output_folder(opt.out_dir);
+  claim_output_folder(opt.out_dir, existing_output(opt.force, opt.engine.resume), true);
   std::vector<Job> jobs = plan(opt);
   if (jobs.empty()) throw InputError(opt.cases_dir + ": no scene and formulation matched");
   // Variant runs a previous suite left under a run this one redoes (its

@@ -39,6 +39,7 @@ struct SuiteOptions {
   bool variants = true;
   bool report = true;
   bool quiet = false;
+  bool force = false;  // --force: a non-empty out_dir is cleared of earlier outputs (else refused)
   EngineOptions engine;  // where the runs execute (local pool or Slurm)
 };
 

@@ -341,7 +341,7 @@ SweepPlan plan_sweep(const SweepOptions& opt) {
 
 int sweep_command(const SweepOptions& opt) {
   SweepPlan plan = plan_sweep(opt);
-  make_output_folder(opt.out_dir);
+  claim_output_folder(opt.out_dir, existing_output(opt.force, opt.engine.resume), true);
   if (!opt.quiet)
     std::printf("rpfem sweep %s: %s, results in %s\n", plan.study.name.c_str(), plan.study.description.c_str(),
                 opt.out_dir.c_str());

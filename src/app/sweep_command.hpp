@@ -24,6 +24,7 @@ struct SweepOptions {
   int jobs = 0;                        // 0: the machine's cores
   bool quick = false;                  // the axes' quick values, quick_set
   bool quiet = false;
+  bool force = false;  // --force: a non-empty out_dir is cleared of earlier outputs (else refused)
   EngineOptions engine;                // where the runs execute (local pool or Slurm)
 };
 

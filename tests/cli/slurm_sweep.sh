@@ -54,24 +54,26 @@ PY
 }
 check "slurm and local tables agree in every result column" 'same_table "$tmp/local/sweep.csv" "$tmp/slurm_out/sweep.csv"'
 echo "measured: local $(awk "BEGIN { print $t1 - $t0 }") s, slurm $(awk "BEGIN { print $t2 - $t1 }") s for 9 runs"
-# Again on the same folder: nothing to submit; with one run's summary gone, that run only.
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm > "$tmp/s2.log" 2>&1
+# Again on the same folder with --resume: nothing to submit; with one run's
+# summary gone, that run only.
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm --resume > "$tmp/s2.log" 2>&1
 check "a finished study submits nothing" 'grep -q "9 runs on Slurm: 0 submitted, 9 finished before" "$tmp/s2.log"'
 victim=$tmp/slurm_out/runs/004
 rm "$victim/summary.json"
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm > "$tmp/s3.log" 2>&1
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm --resume > "$tmp/s3.log" 2>&1
 check "only the unfinished run resubmitted" 'grep -q "9 runs on Slurm: 1 submitted, 8 finished before" "$tmp/s3.log"'
 # Interrupted (SIGTERM, as Ctrl-C) while the array runs one task at a time:
-# the array is cancelled, exit 130; the same command then submits only the
-# runs that did not finish, and the table is the local one.
+# the array is cancelled, exit 130 (saying --resume resumes); the same
+# command with --resume then submits only the runs that did not finish, and
+# the table is the local one.
 "$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm --array-limit 1 > "$tmp/c1.log" 2>&1 &
 pid=$!
 for _ in $(seq 100); do [ "$(grep -c "finished in" "$tmp/c1.log")" -ge 3 ] && break; sleep 0.1; done
 kill -TERM $pid; wait $pid; rc=$?
-check "interrupted: exit 130, the array cancelled" '[ $rc -eq 130 ] && grep -q "cancelled Slurm job" "$tmp/c1.log"'
+check "interrupted: exit 130, the array cancelled" '[ $rc -eq 130 ] && grep -q "cancelled Slurm job.*--resume" "$tmp/c1.log"'
 sleep 1
 check "nothing left in the queue" '[ -z "$(squeue -h)" ]'
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm > "$tmp/c2.log" 2>&1; rc=$?
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm --resume > "$tmp/c2.log" 2>&1; rc=$?
 done_before=$(grep -o "[0-9]* finished before" "$tmp/c2.log" | cut -d' ' -f1)
 check "resumed: exit 0, only the unfinished submitted" '[ $rc -eq 0 ] && [ "${done_before:-0}" -ge 3 ] && [ "$done_before" -lt 9 ]'
 check "resumed table as the local one" 'same_table "$tmp/local/sweep.csv" "$tmp/cut/sweep.csv"'
