@@ -36,6 +36,52 @@ void SparseAssembler::build(const DofMap& dofs, const std::vector<std::array<Ind
   for (Index c = 0; c < n; ++c) std::copy(cols[c].begin(), cols[c].end(), A_.innerIndexPtr() + outer[c]);
   set_zero();
   ++version_;
+
+  quads_ = quads;
+  quad_pos_.assign(64 * quads.size(), -1);
+  for (std::size_t e = 0; e < quads.size(); ++e)
+    for (int b = 0; b < 4; ++b) {
+      const NodeFrame& fb = dofs.frame(quads[e][b]);
+      for (int a = 0; a < 4; ++a) {
+        const NodeFrame& fa = dofs.frame(quads[e][a]);
+        for (int j = 0; j < fb.nfree; ++j)
+          for (int i = 0; i < fa.nfree; ++i)
+            quad_pos_[64 * e + 16 * b + 4 * a + 2 * j + i] = position(fa.dof[i], fb.dof[j]);
+      }
+    }
+}
+
+int SparseAssembler::position(Index row, Index col) const {
+  const int* inner = A_.innerIndexPtr();
+  const int* begin = inner + A_.outerIndexPtr()[col];
+  const int* end = inner + A_.outerIndexPtr()[col + 1];
+  const int* pos = std::lower_bound(begin, end, static_cast<int>(row));
+  if (pos == end || *pos != row) throw std::logic_error("sparse assembly outside the pattern");
+  return static_cast<int>(pos - inner);
+}
+
+void SparseAssembler::add_quad(Index e, const Index* nodes, const double* K) {
+  if (static_cast<std::size_t>(e) >= quads_.size() || !std::equal(nodes, nodes + 4, quads_[e].begin())) {
+    add(nodes, 4, K);
+    return;
+  }
+  const int* pos = quad_pos_.data() + 64 * e;
+  double* val = A_.valuePtr();
+  for (int b = 0; b < 4; ++b) {
+    const NodeFrame& fb = dofs_->frame(nodes[b]);
+    if (fb.nfree == 0) continue;
+    for (int a = 0; a < 4; ++a) {
+      const NodeFrame& fa = dofs_->frame(nodes[a]);
+      if (fa.nfree == 0) continue;
+      Eigen::Matrix2d Kab;
+      Kab << K[(2 * b) * 8 + 2 * a], K[(2 * b + 1) * 8 + 2 * a], K[(2 * b) * 8 + 2 * a + 1],
+          K[(2 * b + 1) * 8 + 2 * a + 1];
+      const Eigen::Matrix2d R = fa.T.transpose() * Kab * fb.T;
+      const int* p = pos + 16 * b + 4 * a;
+      for (int j = 0; j < fb.nfree; ++j)
+        for (int i = 0; i < fa.nfree; ++i) val[p[2 * j + i]] += R(i, j);
+    }
+  }
 }
 
 void SparseAssembler::set_zero() { std::fill_n(A_.valuePtr(), A_.nonZeros(), 0.0); }

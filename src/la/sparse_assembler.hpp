@@ -23,6 +23,10 @@ class SparseAssembler {
   // Adds the nodal block K (2k x 2k, column-major, global x/y components of
   // nodes[0..k)) transformed to the nodes' frames: A += T^T K T.
   void add(const Index* nodes, int k, const double* K);
+  // The same for quads[e] of the last build(), through the value positions
+  // found then (add() searches each entry's row in its column; the quads
+  // are most of the tangent's blocks). The sums are add()'s, bit for bit.
+  void add_quad(Index e, const Index* nodes, const double* K);
   SpMat& matrix() { return A_; }
   const SpMat& matrix() const { return A_; }
 
@@ -30,6 +34,13 @@ class SparseAssembler {
   const DofMap* dofs_ = nullptr;
   SpMat A_;
   std::uint64_t version_ = 0;
+  // Per quad of the last build, the value position of each (column node b,
+  // row node a, free direction j, free direction i): [64 e + 16 b + 4 a +
+  // 2 j + i]; -1 where a direction is not free.
+  std::vector<int> quad_pos_;
+  std::vector<std::array<Index, 4>> quads_;  // their nodes: another quad e is added by add()
+
+  int position(Index row, Index col) const;
 };
 
 }  // namespace rpfem

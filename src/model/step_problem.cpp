@@ -124,17 +124,25 @@ double StepProblem::energy(const Vec& u) const {
   return e + sink.total;
 }
 
-double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const {
+double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy) const {
   auto t0 = Clock::now();
   F.assign(v.size(), Vec2::Zero());
   const Index ne = view_.mesh->num_elements();
   std::vector<Vec8>& grad = ws_.element_forces;
+  std::vector<double>& pi = ws_.element_values;
   grad.resize(ne);
+  if (element_energy) pi.resize(ne);
   for_each_element(ne, ws_.threads, [&](Index el) {
     ElementTerms t;
     rigid_plastic_terms(element_input(el, v), Tangent::None, t);
     grad[el] = t.grad;
+    if (element_energy) pi[el] = t.energy;
   });
+  if (element_energy) {
+    double e = 0;
+    for (Index el = 0; el < ne; ++el) e += pi[el];
+    *element_energy = e;
+  }
   double scale2 = 0;
   for (Index el = 0; el < ne; ++el) {
     const auto& q = view_.mesh->quads[el];
@@ -153,15 +161,40 @@ double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& 
   return std::max(std::sqrt(scale2), force_floor_);
 }
 
+namespace {
+
+// The nodal forces in the reduced unknowns: R_k = T_k . F_node.
+void reduce_forces(const DofMap& dofs, const std::vector<Vec2>& F, Vec& R) {
+  R.setZero(dofs.num_free());
+  for (Index i = 0; i < dofs.num_nodes(); ++i) {
+    const NodeFrame& f = dofs.frame(i);
+    for (int k = 0; k < f.nfree; ++k) R(f.dof[k]) = f.T.col(k).dot(F[i]);
+  }
+}
+
+}  // namespace
+
 void StepProblem::residual(const Vec& u, Vec& R, double& scale) const {
   std::vector<Vec2> v, F;
   ws_.dofs.expand(u, v);
   scale = nodal_forces(v, F);
-  R.setZero(ws_.dofs.num_free());
-  for (Index i = 0; i < ws_.dofs.num_nodes(); ++i) {
-    const NodeFrame& f = ws_.dofs.frame(i);
-    for (int k = 0; k < f.nfree; ++k) R(f.dof[k]) = f.T.col(k).dot(F[i]);
-  }
+  reduce_forces(ws_.dofs, F, R);
+}
+
+double StepProblem::residual_energy(const Vec& u, Vec& R, double& scale) const {
+  std::vector<Vec2> v, F;
+  ws_.dofs.expand(u, v);
+  double e = 0;
+  scale = nodal_forces(v, F, &e);
+  reduce_forces(ws_.dofs, F, R);
+  // The rest of energy(): the external power, then the contact's terms.
+  auto t0 = Clock::now();
+  for (std::size_t i = 0; i < v.size(); ++i) e -= fext_[i].dot(v[i]);
+  lap(t0, ws_.residual_seconds);
+  EnergySink sink;
+  contact_.add_terms(view_, v, sink);
+  lap(t0, ws_.contact_seconds);
+  return e + sink.total;
 }
 
 const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
@@ -187,7 +220,7 @@ const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
   for (Index el = 0; el < ne; ++el) {
     const ElementTerms& t = terms[el];
     const auto& q = view_.mesh->quads[el];
-    ws_.assembler.add(q.data(), 4, t.hess.data());
+    ws_.assembler.add_quad(el, q.data(), t.hess.data());
     if (nodes.empty()) continue;
     for (int a = 0; a < 4; ++a) {
       const auto f = nf.force.find(q[a]);
@@ -236,6 +269,8 @@ NewtonSystem StepProblem::newton_system() {
       contact_.anchor_merit(view_, v);
     };
   s.residual = [this](const Vec& u, Vec& R, double& scale) { residual(u, R, scale); };
+  if (s.energy)
+    s.residual_energy = [this](const Vec& u, Vec& R, double& scale) { return residual_energy(u, R, scale); };
   s.solve = [this](const Vec& u, bool c, const Vec& R, Vec& du) { return solve(u, c, R, du); };
   s.reuse = [this](const Vec& R, Vec& du) {
     if (!ws_.linear.holds(ws_.assembler.pattern_version(), R.size())) return false;

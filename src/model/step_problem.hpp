@@ -58,8 +58,13 @@ class StepProblem {
   // Full nodal force F = dPi/dv at nodal velocities v; returns a force scale
   // for relative residuals: the norm of the element forces, at least the
   // floor (set_force_floor).
-  double nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F) const;
+  // With element_energy, also the sum of the elements' Pi in element order
+  // (energy()'s first term, bit for bit), from the same element pass.
+  double nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy = nullptr) const;
   void residual(const Vec& u, Vec& R, double& scale) const;
+  // residual() and energy() from one element pass (a line search's trial):
+  // returns Pi(u), the same bits as energy(u).
+  double residual_energy(const Vec& u, Vec& R, double& scale) const;
   // Assembles the tangent (consistent or secant) at u into the workspace.
   const SpMat& tangent(const Vec& u, bool consistent);
   bool solve(const Vec& u, bool consistent, const Vec& R, Vec& du);

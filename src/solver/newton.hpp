@@ -53,6 +53,9 @@ struct NewtonSystem {
   std::function<void(const Vec& u)> anchor;
   // Residual R(u) and the force scale used for the relative residual.
   std::function<void(const Vec& u, Vec& R, double& force_scale)> residual;
+  // Optional: residual and energy in one pass (the same values as the two
+  // calls), returning Pi(u); the line search's trials use it.
+  std::function<double(const Vec& u, Vec& R, double& force_scale)> residual_energy;
   // Assembles the tangent at u (secant if !consistent), factorizes it and
   // solves K du = -R into du; false if the factorization failed.
   std::function<bool(const Vec& u, bool consistent, const Vec& R, Vec& du)> solve;

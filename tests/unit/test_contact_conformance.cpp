@@ -453,4 +453,43 @@ TEST(Conformance, DirectCoulombTangentIsTheResidualsDerivative) {
   }
 }
 
+// The line search's trial (StepProblem::residual_energy: forces and
+// energy from one element pass) gives the bits of residual() and
+// energy(), with a potential contact (penalty, friction factor) and away
+// from the solution.
+TEST(Conformance, ResidualAndEnergyInOnePassAreTheTwoCallsBits) {
+  ContactRun run(die_block(friction_table("factor")), "penalty", "");
+  ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
+  const Scene& scene = *run.scene;
+  const StepRecord& last = run.out.steps.back();
+  const StepView view = next_step(scene, last);
+  run.contact->begin_step(view);
+  const Index ne = scene.mesh.num_elements();
+  const std::vector<std::array<double, 4>> strain(ne, {0.1, 0.1, 0.1, 0.1});
+  const std::vector<ElementMaterial> materials(ne, {&scene.bodies[0].law, 1e4, 0.0});
+  std::vector<Vec2> fext(scene.mesh.num_nodes(), Vec2::Zero());
+  fext[0] = Vec2(3.0, -2.0);  // the external power's term too
+  SolverWorkspace ws(LinearSolverChoice::Auto);
+  StepProblem problem(view, strain, materials, 1e-3, fext, *run.contact, ws);
+  std::vector<NodeConstraint> cons;
+  run.contact->constraints(view, cons);
+  problem.set_constraints(cons);
+  ASSERT_TRUE(problem.newton_system().residual_energy) << "penalty has a potential";
+  for (double shift : {0.0, 0.05}) {
+    std::vector<Vec2> v = last.v;
+    for (Index i = 0; i < scene.mesh.num_nodes(); ++i) v[i] += shift * Vec2(std::sin(1.0 + i), std::cos(2.0 * i));
+    const Vec u = problem.dofs().reduce(v);
+    Vec R1, R2;
+    double s1 = 0, s2 = 0;
+    problem.residual(u, R1, s1);
+    const double e1 = problem.energy(u);
+    const double e2 = problem.residual_energy(u, R2, s2);
+    EXPECT_EQ(e1, e2) << "shift " << shift;
+    EXPECT_EQ(s1, s2);
+    ASSERT_EQ(R1.size(), R2.size());
+    EXPECT_EQ((R1 - R2).cwiseAbs().maxCoeff(), 0.0) << "shift " << shift;
+    EXPECT_GT(R1.norm(), 0.0);
+  }
+}
+
 }  // namespace
