@@ -4,11 +4,12 @@ variant on one plot (kN; paper Fig. 11); per step against stroke the
 penetration, iterations, Newton's force residual and the force imbalance
 (die loads against each other, and penalty's contact pairs between bodies);
 and for rings the calibration curves (inner-diameter change against height
-reduction, one per friction value)."""
+reduction, a colour per friction value, with Avitzur's upper bound per
+friction factor and the exact frictionless curve)."""
 import numpy as np
 
 from plotting import missing_panel, plt, png_bytes
-from reference_curves import load_references, ring_frictionless
+from reference_curves import friction_of, load_references, ring_frictionless, ring_geometry, ring_upper_bound
 from results import initial_height, label
 
 
@@ -88,31 +89,88 @@ def steps_png(runs, title):
     return png_bytes(fig)
 
 
+# Colours of the friction values by rank, distinct side by side: the
+# factors m from purple through blue and green to brown and grey (no red),
+# the Coulomb coefficients mu in oranges, reds and pink; more values than
+# colours take viridis (m) or repeat (mu).
+M_COLOURS = ["#6a3d9a", "#1f78b4", "#17becf", "#1b9e77", "#66a61e", "#b79f00", "#8c564b", "#4d4d4d"]
+MU_COLOURS = ["#ff7f00", "#e31a1c", "#99000d", "#e7298a"]
+# Markers of the formulations past the first (drawn as a plain line).
+MARKERS = ["o", "s", "^", "v", "D", "P", "X", "*"]
+
+
+def friction_colours(frictions):
+    """{("m" | "mu", value): colour}, in increasing order of the value."""
+    ms = sorted(v for k, v in frictions if k == "m")
+    mus = sorted(v for k, v in frictions if k == "mu")
+    many = plt.get_cmap("viridis")
+    colours = {("m", v): M_COLOURS[i] if len(ms) <= len(M_COLOURS) else many(0.9 * i / (len(ms) - 1))
+               for i, v in enumerate(ms)}
+    colours.update({("mu", v): MU_COLOURS[i % len(MU_COLOURS)] for i, v in enumerate(mus)})
+    return colours
+
+
+def friction_text(friction):
+    return "unknown friction" if friction is None else "%s = %g%s" % (
+        "m" if friction[0] == "m" else "\u03bc", friction[1], " (Coulomb)" if friction[0] == "mu" else "")
+
+
 def calibration_png(out, runs, title):
     """Ring calibration curves: inner-diameter change (%) against height
-    reduction (%), one curve per run (formulation and friction variant),
-    from the `inner_diameter_mid` monitor; None when the scene has none."""
-    curves = [r for r in runs if "inner_diameter_mid" in r["history"]]
+    reduction (%), one curve per run, from the `inner_diameter_mid`
+    monitor; None when the scene has none. One colour per friction value
+    (summary.json's dies.*.friction: factor m or Coulomb mu), a marker per
+    formulation (the first a plain line). For every factor m > 0, in its
+    colour, dashed and thin: Avitzur's upper bound on the run's own ring
+    (reference_curves.ring_upper_bound; ro, ri and the full height from
+    summary.json); for m = 0 the exact homogeneous curve, black dotted
+    (the upper bound gives the same). Coulomb runs have no closed-form
+    curve: the bound is for a constant friction factor."""
+    curves = [(r, H0) for r in runs if "inner_diameter_mid" in r["history"] and (H0 := initial_height(out, r))]
     if not curves:
         return None
-    fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=110)
-    colours = plt.get_cmap("tab20")
-    for i, r in enumerate(curves):
-        H0 = initial_height(out, r)
-        if not H0:
-            continue
-        ax.plot([100 * s / H0 for s in r["history"]["stroke"]], r["history"]["inner_diameter_mid"], label=label(r),
-                color=colours(i % 20), linestyle="-" if r["variant"] else "--")
-    top = max(max(100 * s / H0 for s in r["history"]["stroke"]) for r in curves if (H0 := initial_height(out, r)))
-    x = list(np.linspace(0, top, 50))
-    ax.plot(x, ring_frictionless(x), color="k", linewidth=2.5, linestyle=":", zorder=1,
-            label="m = 0, exact: sqrt(H0/H) - 1")
+    groups = {}  # friction -> [(run, reductions)]
+    for r, H0 in curves:
+        groups.setdefault(friction_of(r["summary"]), []).append((r, [100 * s / H0 for s in r["history"]["stroke"]]))
+    colours = friction_colours([f for f in groups if f is not None])
+    formulations = list(dict.fromkeys(r["formulation"] for r, _ in curves))
+    markers = {f: MARKERS[i - 1] if i else None for i, f in enumerate(formulations[:len(MARKERS) + 1])}
+    fig, ax = plt.subplots(figsize=(8.8, 5.0), dpi=110)
+    friction_handles = []
+    order = sorted(groups, key=lambda f: (f is None, f and f[0] == "mu", f and f[1]))
+    for friction in order:
+        colour = colours.get(friction, "0.5")
+        for r, x in groups[friction]:
+            k = formulations.index(r["formulation"])
+            ax.plot(x, r["history"]["inner_diameter_mid"], color=colour, linewidth=1.4,
+                    marker=markers.get(r["formulation"], "x"), markersize=4.5, fillstyle="none",
+                    markevery=(0.03 * (k % 3), 0.1) if k else None)  # staggered: coinciding runs show each marker
+        top = max(max(x) for _, x in groups[friction])
+        geometry = ring_geometry(groups[friction][0][0]["summary"])
+        if friction and friction[0] == "m" and friction[1] > 0 and geometry and top > 0:
+            xs = list(np.linspace(0, top, 60))
+            ax.plot(xs, ring_upper_bound(*geometry, friction[1], xs), color=colour, linewidth=1.0,
+                    linestyle=(0, (5, 3)), zorder=1)
+        friction_handles.append(plt.Line2D([], [], color=colour, linewidth=3, label=friction_text(friction)))
+    top = max(max(x) for g in groups.values() for _, x in g)
+    xs = list(np.linspace(0, top, 60))
+    ax.plot(xs, ring_frictionless(xs), color="k", linewidth=2.2, linestyle=":", zorder=1)
+    style_handles = [plt.Line2D([], [], color="0.3", linewidth=1.4, marker=markers.get(f, "x"), fillstyle="none",
+                                label=f + " (FE)") for f in formulations]
+    style_handles += [plt.Line2D([], [], color="0.3", linewidth=1.0, linestyle=(0, (5, 3)),
+                                 label="upper bound, friction factor m\n(Avitzur 1968)"),
+                      plt.Line2D([], [], color="k", linewidth=2.2, linestyle=":",
+                                 label="m = 0, exact: sqrt(H0/H) - 1")]
     ax.axhline(0, color="k", linewidth=0.5)
     ax.set_xlabel("height reduction (%)")
     ax.set_ylabel("inner diameter change at mid-height (%)")
     ax.set_title(title + ": calibration curves")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    first = ax.legend(handles=friction_handles, title="friction (colour)", fontsize=8, title_fontsize=8,
+                      loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.add_artist(first)
+    ax.legend(handles=style_handles, title="line", fontsize=8, title_fontsize=8, loc="lower left",
+              bbox_to_anchor=(1.01, 0.0))
     fig.tight_layout()
     return png_bytes(fig)
 
@@ -164,5 +222,11 @@ STEPS_FIGURE = (
     "contact-pair imbalance between deformable bodies. Log scales show zeros at 1e-16.")
 CALIBRATION_FIGURE = (
     "ring calibration curves", "calibration", calibration_png,
-    "Inner-diameter change at mid-height against height reduction, one curve per run; black dotted: the exact "
-    "frictionless (m = 0) curve, homogeneous flow, sqrt(H0/H) - 1.")
+    "Inner-diameter change at mid-height against height reduction, one curve per run: one colour per friction "
+    "value (factor m: purple, blues, greens, brown, grey; Coulomb mu: oranges, reds, pink), a marker per "
+    "formulation. Dashed and thin, in the colour of its m: Avitzur's upper bound (Metal Forming: Processes and "
+    "Analysis, 1968; the field u_r = v/(2h) (r - Rn^2/r), uniform through the thickness, the neutral radius Rn "
+    "minimising the power at every height; perfectly plastic) on the run's own ring. Black dotted: the exact "
+    "frictionless (m = 0) curve, homogeneous flow, sqrt(H0/H) - 1 (the bound's m = 0). The Coulomb runs have no "
+    "reference curve: the bound assumes a constant friction factor. Runs of one formulation and friction that "
+    "differ in other settings only (the remeshing variants) share colour and line: they should lie on each other.")

@@ -1,10 +1,13 @@
 """Closed-form reference curves for the suite report's plots
 (curve_figures.py), with their sources: the exact load of homogeneous
 frictionless upsetting (verification/analytic.cpp), Prandtl's flat-punch
-load in plane strain, and the ring's frictionless inner-diameter change.
-The flow stress is the run's own (summary.json: library K and n, eps0, m,
-rate_ref): sigma = K (eps0 + eps)^n (rate / rate_ref)^m."""
+load in plane strain, and the ring's inner-diameter change: exact without
+friction, Avitzur's upper bound with a friction factor m. The flow stress
+is the run's own (summary.json: library K and n, eps0, m, rate_ref):
+sigma = K (eps0 + eps)^n (rate / rate_ref)^m."""
 import math
+
+import numpy as np
 
 # src/material/flow_stress.cpp's library (Jang & Hwang 2002, Table 1): K (kgf/mm^2), n.
 LIBRARY = {"AISI1010": (72.98, 0.22), "AISI1035": (91.97, 0.17)}
@@ -94,3 +97,132 @@ def ring_frictionless(reductions):
     """The ring's inner-diameter change (%) without friction: homogeneous
     flow, every diameter grows as sqrt(H0/H) - 1."""
     return [100 * (math.sqrt(1 / (1 - x / 100)) - 1) for x in reductions]
+
+
+def ring_upper_bound_power(ro, ri, h, m, rn):
+    """Avitzur's upper-bound power of ring compression, J / (pi sigma0 v)
+    (mm^2), for the neutral radius rn; outer and inner radius ro, ri and
+    full height h (mm), closing speed v, friction factor m, flow stress
+    sigma0 (uniform: perfectly plastic).
+
+    Field, uniform through the thickness (z from the mid-plane):
+        u_r = v/(2h) (r - rn^2/r),   u_z = -v z / h,
+    incompressible: e_r + e_t + e_z = v/(2h) (1 + a) + v/(2h) (1 - a) - v/h
+    = 0 with a = rn^2/r^2, and its effective strain rate
+        sqrt(2/3 e_ij e_ij) = v/h sqrt(1 + rn^4 / (3 r^4)).
+    Internal power, with s = r^2 and c = rn^2/sqrt3:
+        W_i = sigma0 int_V e_bar dV = 2 pi sigma0 v int r sqrt(1 + rn^4/(3 r^4)) dr
+            = pi sigma0 v [G(ro^2) - G(ri^2)],
+        G(s) = sqrt(s^2 + c^2) - c asinh(c / s).
+    Friction on both die faces, shear m sigma0/sqrt3 against the slip |u_r|:
+        W_f = 2 int m sigma0/sqrt3 |u_r| 2 pi r dr
+            = (2 pi m sigma0 v / (sqrt3 h)) int_ri^ro |r^2 - rn^2| dr.
+    The field has no velocity discontinuity, so J = W_i + W_f (Avitzur,
+    Metal Forming: Processes and Analysis, 1968; the ring of Male and
+    Cockcroft 1964). rn may lie below ri (all material flows outward)."""
+    c = rn * rn / math.sqrt(3)
+
+    def G(s):
+        return s if c == 0 else math.sqrt(s * s + c * c) - c * math.asinh(c / s)
+
+    def cube(a, b):  # int_a^b (r^2 - rn^2) dr
+        return (b ** 3 - a ** 3) / 3 - rn * rn * (b - a)
+
+    k = min(max(rn, ri), ro)  # r^2 - rn^2 < 0 on [ri, k), > 0 on (k, ro]
+    slip = cube(k, ro) - cube(ri, k)
+    return G(ro * ro) - G(ri * ri) + 2 * m / (math.sqrt(3) * h) * slip
+
+
+def ring_neutral_radius(ro, ri, h, m):
+    """The neutral radius rn in [0, ro] that minimises Avitzur's power
+    (ring_upper_bound_power): scipy's bounded Brent search, against the end
+    rn = 0 (where m = 0 puts it: W_i grows with rn), which Brent never
+    evaluates."""
+    if m == 0:
+        return 0.0
+    # Imported here: without scipy only the ring's calibration figure is
+    # skipped (plotting.draw_or_skip), not the whole report.
+    from scipy.optimize import minimize_scalar
+    best = minimize_scalar(lambda rn: ring_upper_bound_power(ro, ri, h, m, rn), bounds=(0.0, ro),
+                           method="bounded", options={"xatol": 1e-9 * ro})
+    at0 = ring_upper_bound_power(ro, ri, h, m, 0.0)
+    return best.x if best.fun < at0 else 0.0
+
+
+def ring_upper_bound_path(ro, ri, h, m, reductions, step=0.2):
+    """The ring through Avitzur's upper bound at the height reductions (%,
+    0 <= x < 100): {"ro", "ri", "h", "rn", "power"} (mm; power J / (pi
+    sigma0 v) in mm^2: the die load is pi sigma0 power), one entry per
+    reduction; NaN from where the hole has closed (ri^2 < 0: the field no
+    longer applies). Integrated in height steps of at most `step` per cent
+    of h: on a step from h0 to h1 with rn held (taken at the step's
+    midpoint state, second order), dr^2/dt = 2 r u_r = (v/h)(r^2 - rn^2)
+    and dh/dt = -v give exactly r1^2 - rn^2 = (r0^2 - rn^2) h0/h1, so
+    (ro^2 - ri^2) h, the volume over pi, is kept to round-off."""
+    if any(not 0 <= x < 100 for x in reductions):
+        raise ValueError("height reductions must lie in [0, 100) %")
+    H0 = h
+    state = (ro, ri, h)  # the arguments' order of ring_neutral_radius and ring_upper_bound_power
+
+    def advance(state, h1, rn):
+        f = state[2] / h1
+        squares = [rn * rn + (r * r - rn * rn) * f for r in state[:2]]
+        return None if min(squares) <= 0 else tuple(math.sqrt(r2) for r2 in squares) + (h1,)
+
+    keys = ("ro", "ri", "h", "rn", "power")
+    out = {}
+    for x in sorted(set(float(x) for x in reductions)):
+        target = H0 * (1 - x / 100)
+        n = max(1, math.ceil((state[2] - target) / (step / 100 * H0) - 1e-9)) if state and target < state[2] else 0
+        for i in range(n):
+            h1 = state[2] + (target - state[2]) / (n - i)
+            mid = advance(state, (state[2] + h1) / 2, ring_neutral_radius(*state, m))
+            state = None if mid is None else advance(state, h1, ring_neutral_radius(*mid, m))
+            if state is None:  # the hole has closed
+                break
+        if state is None:
+            out[x] = dict.fromkeys(keys, float("nan"))
+            continue
+        rn = ring_neutral_radius(*state, m)
+        out[x] = {"ro": state[0], "ri": state[1], "h": state[2], "rn": rn,
+                  "power": ring_upper_bound_power(*state, m, rn)}
+    return {k: np.array([out[float(x)][k] for x in reductions]) for k in keys}
+
+
+def ring_upper_bound(ro, ri, h, m, reductions):
+    """The ring's inner-diameter change (%) at the height reductions (%)
+    under Avitzur's upper bound with friction factor m (ring_upper_bound_
+    power: the field u_r = v/(2h)(r - rn^2/r), uniform through the
+    thickness, rn minimising the power at every height; Avitzur 1968, the
+    calibration charts of Male and Cockcroft 1964); ro, ri the initial outer
+    and inner radius, h the full initial height (mm). m = 0 gives rn = 0
+    and ring_frictionless."""
+    path = ring_upper_bound_path(ro, ri, h, m, reductions)
+    return list(100 * (path["ri"] / ri - 1))
+
+
+def ring_geometry(summary):
+    """(ro, ri, H) in mm of the run's ring: its mesh's outer and inner
+    radius, and the full height, twice the mesh's when a symmetry plane
+    normal to y lies on the mesh's bottom (the half model of
+    cases/ring_compression*.toml: the mid-plane at y = 0); None for any
+    other workpiece."""
+    w = workpiece(summary)
+    if w is None or w[2].get("shape") != "ring":
+        return None
+    mesh = w[2]
+    planes = summary.get("parameters", {}).get("symmetry", {}).values()
+    mirrored = any(p.get("normal") == "y" and p.get("at", 0.0) == mesh.get("y0", 0.0) for p in planes)
+    return mesh["outer_radius"], mesh["inner_radius"], (2 if mirrored else 1) * mesh["height"]
+
+
+def friction_of(summary):
+    """The run's friction on its dies: ("m", factor) or ("mu", Coulomb
+    coefficient) from summary.json's parameters (no law: m = 0); None when
+    the dies differ."""
+    laws = set()
+    for die in summary.get("parameters", {}).get("dies", {}).values():
+        f = die.get("friction", {})
+        law = f.get("law", "none")
+        laws.add(("mu", f["mu"]) if law == "coulomb" else ("m", f["m"]) if law == "factor" else ("m", 0.0))
+    return laws.pop() if len(laws) == 1 else None
