@@ -179,8 +179,11 @@ def load_png(runs, title):
     """Press load against stroke, every run, with the scene's closed-form
     reference (reference_curves.py) where there is one."""
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
-    for strokes, loads, text in load_references(title, runs):
-        ax.plot(strokes, loads, color="k", linestyle="--", linewidth=1.5, label=text, zorder=5)
+    # Several references (the slab load per friction factor): one dash
+    # pattern each, all black.
+    for (strokes, loads, text), dash in zip(load_references(title, runs), ["--", "-.", ":", (0, (5, 1, 1, 1, 1, 1))]):
+        ax.plot(strokes, [np.nan if v is None else v for v in loads], color="k", linestyle=dash, linewidth=1.5,
+                label=text, zorder=5)
     marked = False
     for r in runs:
         if r["load_col"]:
@@ -213,7 +216,9 @@ LOAD_FIGURE = (
     "form, for frictionless upsetting the exact homogeneous load F = sigma(ln H0/H) A0 H0/H (plane strain: "
     "2/sqrt3 sigma w0 H0/H; verification/analytic.cpp), for the plane-strain indentation Prandtl's flat-punch "
     "load 2k(1 + pi/2) b on a half-space at the initial flow stress (the block is finite and the punch filleted: "
-    "a guide, not the exact answer).")
+    "a guide, not the exact answer), for a cylinder upset with a friction factor m the slab method's load per m, "
+    "F = sigma (1 + 2mR/(3 sqrt3 H)) pi R^2 at the homogeneous height, radius and strain (Altan et al. 1983; "
+    "verification/slab_comparison.cpp; no barrelling and no sticking zone: an estimate, above the exact load).")
 STEPS_FIGURE = (
     "penetration, iterations and force imbalance per step", "steps", lambda out, rs, sc: steps_png(rs, sc),
     "Per step against stroke: largest penetration over the element size, iterations, Newton's relative force "

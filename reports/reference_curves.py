@@ -78,8 +78,47 @@ def prandtl_load(summary):
     return None if sigma is None else 2 * sigma / math.sqrt(3) * (1 + math.pi / 2) * b / 1000
 
 
+def upsetting_slab_load(summary, strokes):
+    """The slab method's press load (kN) of a solid cylinder upset between
+    flat dies with the friction factor m (summary.json's), as
+    verification/slab_comparison.cpp computes it: homogeneous height and
+    radius, H = H0 - 2 stroke (half model on a symmetry plane), R = R0
+    sqrt(H0/H), the flow stress at eps = ln(H0/H) and the rate 2 v / H (v
+    the die's speed), and the mean pressure
+        p_avg / sigma = 1 + 2 m R / (3 sqrt3 H)
+    (verification/analytic.cpp; Altan, Oh and Gegel 1983, sec. 7; Avitzur),
+    F = p_avg pi R^2. None where it does not apply: not one axisymmetric
+    rectangular body under one flat die with a friction factor m > 0."""
+    w = workpiece(summary)
+    dies = summary.get("parameters", {}).get("dies", {})
+    if w is None or len(dies) != 1:
+        return None
+    geometry, material, mesh = w
+    die = next(iter(dies.values()))
+    f = die.get("friction", {})
+    ys = {v["y"] for v in die.get("vertex", {}).values()} if isinstance(die.get("vertex"), dict) else set()
+    if (not geometry.startswith("axisym") or mesh.get("shape", "rectangle") != "rectangle" or len(ys) != 1
+            or f.get("law") != "factor" or not f.get("m", 0) > 0):
+        return None
+    m, speed = f["m"], abs(die.get("vy", 1.0)) or 1.0
+    H0, R0 = 2 * mesh["height"], mesh["width"]
+    loads = []
+    for st in strokes:
+        H = H0 - 2 * st
+        if not H > 0:
+            loads.append(None)
+            continue
+        R = R0 * math.sqrt(H0 / H)
+        sigma = flow_stress(material, math.log(H0 / H), 2 * speed / H)
+        loads.append(None if sigma is None else
+                     sigma * (1 + 2 * m * R / (3 * math.sqrt(3) * H)) * math.pi * R * R / 1000)
+    return loads
+
+
 def load_references(scene, runs):
-    """[(strokes, loads, label)] for the scene's load plot."""
+    """[(strokes, loads, label)] for the scene's load plot: the closed form
+    of frictionless upsetting and of the indentation, and the slab load for
+    each friction factor of a solid cylinder's runs (upsetting_slab_load)."""
     r = next((r for r in runs if r["history"].get("stroke") and r["summary"].get("parameters")), None)
     if r is None or workpiece(r["summary"]) is None:
         return []
@@ -90,7 +129,16 @@ def load_references(scene, runs):
     if scene in PRANDTL:
         p = prandtl_load(r["summary"])
         return [([strokes[0], strokes[-1]], [p, p], "Prandtl, flat punch on a half-space: 2k(1+pi/2) b")] if p else []
-    return []
+    out, seen = [], set()
+    for run in runs:
+        m = (friction_of(run["summary"]) or ("", None))
+        if m[0] != "m" or m[1] in seen or not run["history"].get("stroke"):
+            continue
+        loads = upsetting_slab_load(run["summary"], run["history"]["stroke"])
+        if loads and any(v is not None for v in loads):
+            seen.add(m[1])
+            out.append((run["history"]["stroke"], loads, "slab method, m = %g (p/sigma = 1 + 2mR/(3 sqrt3 H))" % m[1]))
+    return sorted(out, key=lambda t: t[2])
 
 
 def ring_frictionless(reductions):

@@ -36,7 +36,9 @@ CLI::App* add_run(CLI::App& app, rpfem::RunOptions& run) {
                       "run a [[variants]] entry of the case (its overrides, then --set's); 'all': each into OUT/NAME");
   run_cmd->add_flag("--quiet,-q", run.quiet, "no progress output");
   run_cmd->add_flag("--force", run.force,
-                    kForceHelp);
+                    "use a non-empty --out: the run replaces its own files there (result.h5, result.xdmf, "
+                    "history.csv, summary.json, events.csv; with --variant all the variant folders it no longer "
+                    "runs), other files are kept; without it a non-empty --out is refused");
   return run_cmd;
 }
 

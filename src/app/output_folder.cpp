@@ -170,7 +170,7 @@ void make_output_folder(const std::string& dir, const std::string& option) {
 void claim_output_folder(const std::string& dir, ExistingOutput existing, bool resume_hint,
                          const std::string& option) {
   make_output_folder(dir, option);
-  if (existing == ExistingOutput::Resume) return;
+  if (existing == ExistingOutput::Keep) return;
   std::error_code ec;
   std::vector<std::string> held_names;
   for (const auto& entry : fs::directory_iterator(dir, ec))

@@ -22,8 +22,9 @@ void make_output_folder(const std::string& dir, const std::string& option = "--o
 // What a command does with a folder that already holds something.
 enum class ExistingOutput {
   Refuse,   // bad input: a new or empty folder is expected (the default)
-  Replace,  // --force: what rpfem wrote there before is removed first
-  Resume,   // --resume (pools): kept; finished runs are not run again
+  Replace,  // suite, sweep, calibrate --force: what rpfem wrote there before, in every subfolder, is removed first
+  Keep,     // run --force (the run replaces its own files as it starts: remove_run_results, and a pool's
+            // run.log is the one being written), pools' --resume (finished runs are not run again)
 };
 
 // The top-level --out of a command: make_output_folder, then a folder
@@ -32,7 +33,7 @@ enum class ExistingOutput {
 // has --resume (named in the refusal).
 // --force and --resume as one choice (both: --resume; CLI11 excludes it).
 inline ExistingOutput existing_output(bool force, bool resume) {
-  return resume ? ExistingOutput::Resume : force ? ExistingOutput::Replace : ExistingOutput::Refuse;
+  return resume ? ExistingOutput::Keep : force ? ExistingOutput::Replace : ExistingOutput::Refuse;
 }
 void claim_output_folder(const std::string& dir, ExistingOutput existing, bool resume_hint = false,
                          const std::string& option = "--out");

@@ -91,7 +91,11 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
 }  // namespace
 
 int run_command(const RunOptions& opt) {
-  claim_output_folder(opt.out_dir, opt.force ? ExistingOutput::Replace : ExistingOutput::Refuse);
+  // --force: each run removes its own files as it starts (and --variant
+  // all the variant folders it no longer runs); nothing else here is the
+  // run's to remove. Nothing recursive: a pool's run folder holds its
+  // variants' folders, run at the same time, and the run.log being written.
+  claim_output_folder(opt.out_dir, opt.force ? ExistingOutput::Keep : ExistingOutput::Refuse);
   if (opt.variant.empty()) return run_one(opt, nullptr, opt.out_dir);
   CaseFile probe(opt.case_file);
   const std::vector<Variant> variants = read_variants(probe.root());

@@ -111,19 +111,18 @@ check "a run after a killed one takes the folder (exit $rc)" '[ $rc -eq 0 ] && [
 
 # Variants: one dropped from the case loses its results on the next
 # --variant all --force (a user's file in it stays, and so does a user's
-# folder); a report's figures folder goes.
+# folder).
 sed -e 's/^end_stroke = 5.0/end_stroke = 0.2/' "$case_file" > "$tmp/case.toml"
 printf '\n[[variants]]\nname = "a"\nset = []\n\n[[variants]]\nname = "b"\nset = []\n' >> "$tmp/case.toml"
 "$rpfem" run "$tmp/case.toml" --out "$tmp/v" --variant all --quiet > "$tmp/v.log" 2>&1
-mkdir -p "$tmp/v/mine" "$tmp/v/report_files"; echo keep > "$tmp/v/mine/notes.txt"; touch "$tmp/v/report_files/f.png"
+mkdir -p "$tmp/v/mine"; echo keep > "$tmp/v/mine/notes.txt"
 echo keep > "$tmp/v/a/notes.txt"
 sed -i '/^name = "a"/,$d' "$tmp/case.toml"; sed -i '$d' "$tmp/case.toml"
 printf '[[variants]]\nname = "b"\nset = []\n' >> "$tmp/case.toml"
 "$rpfem" run "$tmp/case.toml" --out "$tmp/v" --variant all --force --quiet > "$tmp/v2.log" 2>&1; rc=$?
 check "--variant all again (exit $rc): the dropped variant's results are gone, the user's note stays" \
   '[ $rc -eq 0 ] && [ ! -e "$tmp/v/a/result.h5" ] && [ ! -e "$tmp/v/a/result.xdmf" ] && [ -e "$tmp/v/a/notes.txt" ]'
-check "the kept variant and a user's folder stay, the report's figures go" \
-  '[ -e "$tmp/v/b/result.h5" ] && [ -e "$tmp/v/mine/notes.txt" ] && [ ! -e "$tmp/v/report_files" ]'
+check "the kept variant and a user's folder stay" '[ -e "$tmp/v/b/result.h5" ] && [ -e "$tmp/v/mine/notes.txt" ]'
 # The suite: its scene run's variant folders go with --no-variants
 # (--resume), its finished run is kept, and rerun when its --set changes.
 mkdir -p "$tmp/cases"
@@ -143,8 +142,13 @@ check "the suite again with --no-variants --resume (exit $rc): no variant folder
   --set stepping.end_stroke=0.1 > "$tmp/s3.log" 2>&1; rc=$?
 check "--resume with another --set reruns it (exit $rc)" \
   '[ $rc -eq 0 ] && ! grep -q "finished before" "$tmp/s3.log" && [ -n "$(find "$tmp/s/scene/direct/result.h5" -newermt 2001-01-01)" ]'
-"$rpfem" suite --cases "$tmp/cases" --out "$tmp/s" --jobs 1 --no-report --force --quiet > "$tmp/s4.log" 2>&1; rc=$?
-check "the suite with --force (exit $rc): every run again, the variants back" \
-  '[ $rc -eq 0 ] && [ -e "$tmp/s/scene/direct/b/result.h5" ] && [ -e "$tmp/s/scene/direct/c/result.h5" ]'
+# --force on two workers: the scene's run and its variants' (folders inside
+# its folder) at the same time each finish; a report's figures go, a user's
+# file stays.
+mkdir -p "$tmp/s/report_files"; touch "$tmp/s/report_files/f.png"; echo keep > "$tmp/s/notes.txt"
+"$rpfem" suite --cases "$tmp/cases" --out "$tmp/s" --jobs 2 --no-report --force --quiet > "$tmp/s4.log" 2>&1; rc=$?
+check "the suite with --force on two workers (exit $rc): every run again and finished, the variants back" \
+  '[ $rc -eq 0 ] && for d in "" b c; do grep -q "\"status\" : \"finished\"" "$tmp/s/scene/direct/$d/summary.json" || exit 1; done'
+check "the report's figures gone, the user's file kept" '[ ! -e "$tmp/s/report_files" ] && [ -e "$tmp/s/notes.txt" ]'
 [ $fail -eq 0 ] || { tail -n 5 "$tmp"/*.log; exit 1; }
 echo "ok: output folders"

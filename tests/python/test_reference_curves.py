@@ -19,8 +19,8 @@ import unittest
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "reports"))
-from reference_curves import (ring_frictionless, ring_upper_bound, ring_upper_bound_path,  # noqa: E402
-                              ring_upper_bound_power)
+from reference_curves import (load_references, ring_frictionless, ring_upper_bound,  # noqa: E402
+                              ring_upper_bound_path, ring_upper_bound_power, upsetting_slab_load)
 
 # The standard 6:3:2 ring of cases/ring_compression.toml: OD 60, ID 30, H 20 mm.
 RO, RI, H = 30.0, 15.0, 20.0
@@ -129,6 +129,48 @@ class TestRingUpperBound(unittest.TestCase):
         a = ring_upper_bound(RO, RI, H, 0.3, [50, 0, 20])
         b = ring_upper_bound(RO, RI, H, 0.3, [0, 20, 50])
         self.assertEqual(a, [b[2], b[0], b[1]])
+
+
+class TestUpsettingSlab(unittest.TestCase):
+    """The slab load of a cylinder upset with the friction factor m (the
+    upsetting_friction scene's reference), against the formula worked by
+    hand at one stroke, and where it must not be drawn."""
+
+    @staticmethod
+    def summary(m=0.5, law="factor", shape="rectangle", geometry="axisymmetric", dies=1):
+        die = {"vy": -1.0, "vertex": {"0": {"x": 0.0, "y": 10.0}, "1": {"x": 30.0, "y": 10.0}},
+               "friction": {"law": law, "m": m}}
+        return {"parameters": {
+            "run": {"geometry": geometry},
+            "bodies": {"billet": {"material": {"K": 500.0, "n": 0.2, "eps0": 0.01},
+                                  "mesh": {"shape": shape, "width": 10.0, "height": 10.0}}},
+            "dies": {"d%d" % i: die for i in range(dies)}}}
+
+    def test_against_the_formula_by_hand(self):
+        # Stroke 2.5 mm: H = 20 - 5 = 15, R = 10 sqrt(20/15) = 11.547,
+        # eps = ln(4/3) = 0.28768, sigma = 500 (0.29768)^0.2 = 392.39 MPa,
+        # p/sigma = 1 + 2 0.5 11.547 / (3 sqrt3 15) = 1.14815,
+        # F = 392.39 1.14815 pi 11.547^2 / 1000 = 188.72 kN.
+        R = 10 * math.sqrt(20 / 15)
+        sigma = 500 * (0.01 + math.log(20 / 15)) ** 0.2
+        want = sigma * (1 + 2 * 0.5 * R / (3 * math.sqrt(3) * 15)) * math.pi * R * R / 1000
+        self.assertAlmostEqual(want, 188.72, delta=0.01)
+        got = upsetting_slab_load(self.summary(), [0.0, 2.5])
+        self.assertAlmostEqual(got[1], want, places=9)
+        # m = 0: not drawn (the exact homogeneous load is the reference);
+        # the load grows with m.
+        self.assertIsNone(upsetting_slab_load(self.summary(m=0.0), [2.5]))
+        self.assertGreater(upsetting_slab_load(self.summary(m=1.0), [2.5])[0], got[1])
+
+    def test_not_where_it_does_not_apply(self):
+        for s in (self.summary(law="coulomb"), self.summary(shape="ring"), self.summary(geometry="plane_strain"),
+                  self.summary(dies=2)):
+            self.assertIsNone(upsetting_slab_load(s, [1.0]))
+
+    def test_one_curve_per_friction_factor(self):
+        runs = [{"summary": self.summary(m=m), "history": {"stroke": [0.0, 1.0, 2.0]}} for m in (0.5, 0.1, 0.5)]
+        refs = load_references("upsetting_friction", runs)
+        self.assertEqual([r[2].split(" (")[0] for r in refs], ["slab method, m = 0.1", "slab method, m = 0.5"])
 
 
 if __name__ == "__main__":
