@@ -9,7 +9,7 @@
 namespace rpfem {
 
 Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfaces_(scene) {
-  capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
+  capture_ = settings.real("capture", 1.0, Range{SegmentGrid::kCaptureMin, SegmentGrid::kCaptureMax}, "search reach, relative to the mean master edge length");
   // The slave of each interface between bodies: the finer surface, each
   // pair's body, its other (`with`) body, or both in turn (two half
   // passes).
@@ -115,7 +115,9 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
     // Master edges near the slave edge: the grid's candidates at points
     // along it no farther apart than the capture distance.
     const double L = (xb - xa).norm();
-    const int samples = 1 + static_cast<int>(std::ceil(L / capture));
+    // (Counted in double first: a capture far below the edge cannot
+    // overflow the count; capture's range bounds it well below the cap.)
+    const int samples = 1 + static_cast<int>(std::min(std::ceil(L / capture), 1e8));
     seen.clear();
     for (int q = 0; q <= samples; ++q) {
       grid.candidates(xa + (xb - xa) * (double(q) / samples), candidates);

@@ -11,7 +11,7 @@ NodeToSegment::NodeToSegment(const Scene& scene, CaseSection settings, bool two_
     : scene_(scene), surfaces_(scene), two_pass_(two_pass) {
   switch_tol_ = settings.real("switch_tolerance", 3e-2, Range::positive(),
                               "relative to the element size (one pass: the penetration that switches roles)");
-  capture_ = settings.real("capture", 1.0, Range::positive(), "search reach, relative to the mean master edge length");
+  capture_ = settings.real("capture", 1.0, Range{SegmentGrid::kCaptureMin, SegmentGrid::kCaptureMax}, "search reach, relative to the mean master edge length");
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) roles_.push_back({surfaces_.finer(i)});
 }
 

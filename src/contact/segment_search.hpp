@@ -67,6 +67,11 @@ struct SegmentHit {
 class SegmentGrid {
  public:
   SegmentGrid() = default;
+  // The reach a discretization's `capture` may ask for, relative to the
+  // mean master edge length: below 1e-6 it is under any mesh's round-off
+  // scale (and a mortar edge's search samples would number 1e6 and more),
+  // above 1e6 the whole model many times over.
+  static constexpr double kCaptureMin = 1e-6, kCaptureMax = 1e6;
   // margin (mm): how far from a segment a node is still a candidate.
   SegmentGrid(const std::vector<Vec2>& x, const ContactSurface& master, double margin);
   // Segments whose grown bounding box contains p (possibly a few more).

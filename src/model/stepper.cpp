@@ -453,6 +453,13 @@ void Runner::set_up() {
                        ".material': its initial flow stress gives a volumetric penalty alpha of " +
                        std::to_string(derived_.alpha[b]) +
                        " MPa s; expected a flow stress and speeds whose scales are finite in double precision");
+  // The regularization's viscosity, c = regularization sigma_y (as in the
+  // element: fem/rigid_plastic_element.cpp), the same way.
+  for (const auto& b : scene_.bodies)
+    if (!std::isfinite(derived_.regularization * b.law.yield(0.0)))
+      throw InputError(scene_.file + ": key 'solver.regularization': with body '" + b.name +
+                       "' its viscosity is not finite in double precision; expected a regularization whose product "
+                       "with the flow stress over the reference strain rate is finite");
   const std::vector<NamedValue> scales = {{"reference strain rate (1/s)", derived_.reference_strain_rate},
                                           {"nominal step (s)", derived_.dt_nominal},
                                           {"force scale (N)", derived_.force_floor}};

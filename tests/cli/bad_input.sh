@@ -106,4 +106,11 @@ expect mesh-offset "upsetting_frictionless_plane.toml: key 'bodies.billet.mesh':
   "$rpfem" run "$src/cases/upsetting_frictionless_plane.toml" --out "$tmp/o29" --set bodies.billet.mesh.x0=1e13
 expect mesh-overflow "paper_test1_double_action.toml: key 'bodies.upper.mesh': coordinates beyond double precision's range" -- \
   "$rpfem" run "$src/cases/paper_test1_double_action.toml" --out "$tmp/o30" --set bodies.upper.mesh.radius=1e308
+# A search reach far below round-off (mortar's search samples overflowed
+# an int), and a regularization whose viscosity is not finite (the run
+# stopped at step 0 on a non-finite residual, exit 3).
+expect capture-tiny "patch_two_blocks.toml: key 'contact.capture': expected a number in \\[1e-06, 1e+06\\]" -- \
+  "$rpfem" run "$src/cases/patch_two_blocks.toml" --out "$tmp/o31" -d mortar --set contact.capture=1e-300
+expect regularization-huge "key 'solver.regularization': with body 'billet' its viscosity is not finite" -- \
+  "$rpfem" run "$base" --out "$tmp/o32" --set solver.alpha=1e-308 --set solver.regularization=1e308
 exit $fail
