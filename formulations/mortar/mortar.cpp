@@ -19,7 +19,9 @@ Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfac
   // Against rigid dies: node-to-die rows (the die's surface is exact) or
   // mortar rows like those between bodies.
   die_mortar_ = settings.text("dies", "node", {"node", "mortar"}) == "mortar";
-  lumped_ = settings.text("slave_weights", "consistent", {"consistent", "lumped"}) == "lumped";
+  const std::string weights = settings.text("slave_weights", "consistent", {"consistent", "lumped", "dual"});
+  lumped_ = weights == "lumped";
+  dual_ = weights == "dual";
 }
 
 void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>&) {
@@ -105,7 +107,8 @@ void die_chords(const Die& die, double t, double sagitta, std::vector<Vec2>& xd,
 // of Mst (coordinates xm) facing it within reach `capture`, summed per
 // slave node (indexed like S.nodes); normal: the slave's nodal normals.
 std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurface& S, const std::vector<Vec2>& normal,
-                                 const std::vector<Vec2>& xm, const ContactSurface& Mst, Geometry g, double capture) {
+                                 const std::vector<Vec2>& xm, const ContactSurface& Mst, Geometry g, double capture,
+                                 bool dual) {
   const SegmentGrid grid(xm, Mst, capture);
   std::vector<RowSums> sums(S.nodes.size());
   std::vector<int> candidates, seen;
@@ -132,18 +135,34 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
       const Vec2 n = ((1 - xi) * normal[a] + xi * normal[b]).normalized();
       return (xA + eta * (xB - xA) - xa - xi * (xb - xa)).dot(n);
     };
+    // The pieces of the edge: the master edges facing it within reach.
+    std::vector<std::pair<int, MortarPiece>> pieces;
     for (const int m : seen) {
       const Edge& me = Mst.edges[m];
       const Vec2 &xA = xm[me.a], &xB = xm[me.b];
-      const Vec2 master_out = outward(xB - xA);
-      if (master_out.dot(slave_out) >= 0) continue;  // the master edge does not face the slave
+      if (outward(xB - xA).dot(slave_out) >= 0) continue;  // the master edge does not face the slave
       const auto piece = mortar_piece(xa, xb, normal[a], normal[b], xA, xB);
       if (!piece) continue;
       // Within reach: the gap at the piece's middle.
       if (std::abs(gap_at(0.5 * (piece->xi0 + piece->xi1), 0.5 * (piece->eta0 + piece->eta1), xA, xB)) > capture)
         continue;
-      std::array<std::array<double, 2>, 2> D{}, M{};
-      integrate_piece(xa, xb, g, *piece, D, M);
+      pieces.emplace_back(m, *piece);
+    }
+    // Dual weights: the basis biorthogonal on the covered part (the sum of
+    // the pieces' standard D).
+    Mat22 A{};
+    if (dual) {
+      Mat22 Mc{}, unused{};
+      for (const auto& [m, piece] : pieces) integrate_piece(xa, xb, g, piece, Mc, unused);
+      A = dual_coefficients(Mc);
+    }
+    for (const auto& [m, p] : pieces) {
+      const MortarPiece* piece = &p;
+      const Edge& me = Mst.edges[m];
+      const Vec2 &xA = xm[me.a], &xB = xm[me.b];
+      const Vec2 master_out = outward(xB - xA);
+      Mat22 D{}, M{};
+      integrate_piece(xa, xb, g, *piece, D, M, dual ? &A : nullptr);
       // Where its surfaces are closest: the gap at the piece's ends.
       const double nearest = std::min(gap_at(piece->xi0, piece->eta0, xA, xB), gap_at(piece->xi1, piece->eta1, xA, xB));
       const std::array<int, 2> local{a, b};
@@ -178,7 +197,7 @@ void Mortar::add_rows(const StepView& v, int iface, int s, std::vector<ContactRo
   ContactSurface chords;
   if (die) die_chords(scene_.dies[f.die], v.time, kChordSagitta * f.h, xd, chords);
   const std::vector<RowSums> sums =
-      mortar_sums(x, S, normal, die ? xd : x, die ? chords : surfaces_.side(iface, 1 - s), v.geometry, capture);
+      mortar_sums(x, S, normal, die ? xd : x, die ? chords : surfaces_.side(iface, 1 - s), v.geometry, capture, dual_);
   std::vector<double> w_full, h;
   surfaces_.node_sizes(x, S, v.geometry, f.h, w_full, h);
   for (std::size_t j = 0; j < S.nodes.size(); ++j) {
@@ -199,7 +218,8 @@ void Mortar::add_rows(const StepView& v, int iface, int s, std::vector<ContactRo
     bool fits = true;
     if (lumped_) row.kin.add(S.nodes[j], 1.0);  // sum_k D_jk / W_j
     else
-      for (const auto& [node, d] : r.D) fits = fits && row.kin.add(node, d / W);
+      for (const auto& [node, d] : r.D)  // dual: D_jk = 0 for k != j where the edges are whole under the master
+        if (!dual_ || std::abs(d) > 1e-12 * W) fits = fits && row.kin.add(node, d / W);
     // Body master: its nodes' weights. Die master: the die's velocity
     // times sum_L M_jL / W_j (= 1), and its chord ends' positions in the gap.
     Vec2 gap = Vec2::Zero(), master = Vec2::Zero();
@@ -227,7 +247,10 @@ void Mortar::add_rows(const StepView& v, int iface, int s, std::vector<ContactRo
     // support, so it closes gradually as the contact zone grows over it,
     // and it may touch while open. Lumped: the slave node's own gap against
     // the master's weighted surface, which lands as a node does.
-    if (!lumped_) row.touch_gap = r.nearest, row.lands = false;
+    // Dual weights: D is diagonal where the slave's edges lie whole under
+    // the master, the row's gap the node's own against the master averaged
+    // with Phi_j: it lands as a node does.
+    if (!lumped_ && !dual_) row.touch_gap = r.nearest, row.lands = false;
     if (!die)
       row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),
                                             [](auto& p, auto& q) { return p.second < q.second; })->first;

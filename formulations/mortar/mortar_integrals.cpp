@@ -79,8 +79,22 @@ std::optional<MortarPiece> mortar_piece(const Vec2& xa, const Vec2& xb, const Ve
   return p;
 }
 
-void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p,
-                     std::array<std::array<double, 2>, 2>& D, std::array<std::array<double, 2>, 2>& M) {
+Mat22 dual_coefficients(const Mat22& Mc) {
+  // det / trace^2 is 3/16 for a whole edge in plane strain and falls with
+  // the square of the covered fraction near an end: below kSliver (about
+  // 2 % of the edge covered) the inverse would give coefficients of 1e2 and
+  // more for a contribution that small.
+  constexpr double kSliver = 1e-4;
+  const double det = Mc[0][0] * Mc[1][1] - Mc[0][1] * Mc[1][0];
+  const double trace = Mc[0][0] + Mc[1][1];
+  if (!(trace > 0) || !(det > kSliver * trace * trace)) return Mat22{{{1, 0}, {0, 1}}};
+  const double Dc[2] = {Mc[0][0] + Mc[0][1], Mc[1][0] + Mc[1][1]};
+  // A = diag(D_c) Mc^-1.
+  return Mat22{{{Dc[0] * Mc[1][1] / det, -Dc[0] * Mc[0][1] / det}, {-Dc[1] * Mc[1][0] / det, Dc[1] * Mc[0][0] / det}}};
+}
+
+void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, Mat22& D, Mat22& M,
+                     const Mat22* dual) {
   const double L = (xb - xa).norm(), J = p.xi1 - p.xi0;
   constexpr double kGauss = 0.5773502691896257;  // 1 / sqrt 3: the 2-point rule on [-1, 1]
   for (const double s : {-kGauss, kGauss}) {
@@ -89,8 +103,11 @@ void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPie
     const double r = (1 - xi) * xa(0) + xi * xb(0);
     const double w = 0.5 * J * L * (g == Geometry::Axisymmetric ? 2 * kPi * r : 1.0);
     const std::array<double, 2> N{1 - xi, xi}, NM{1 - eta, eta};
+    std::array<double, 2> test = N;  // the rows' test functions: N_k, or Phi_k
+    if (dual)
+      for (int k = 0; k < 2; ++k) test[k] = (*dual)[k][0] * N[0] + (*dual)[k][1] * N[1];
     for (int k = 0; k < 2; ++k)
-      for (int l = 0; l < 2; ++l) D[k][l] += N[k] * N[l] * w, M[k][l] += N[k] * NM[l] * w;
+      for (int l = 0; l < 2; ++l) D[k][l] += test[k] * N[l] * w, M[k][l] += test[k] * NM[l] * w;
   }
 }
 

@@ -46,9 +46,25 @@ std::optional<double> project_onto_master(const Vec2& xA, const Vec2& xB, const 
 std::optional<MortarPiece> mortar_piece(const Vec2& xa, const Vec2& xb, const Vec2& na, const Vec2& nb,
                                         const Vec2& xA, const Vec2& xB);
 
+using Mat22 = std::array<std::array<double, 2>, 2>;
+
+// The dual basis of a slave edge (Wohlmuth 2000; Popp, Gee and Wall 2009,
+// eq. 21-23), biorthogonal on the part of the edge the master covers (the
+// "consistent" dual basis of Cichosz and Bischoff 2011 and Popp, Wohlmuth,
+// Gee and Wall 2012, sec. 3: with the whole edge's basis a partly covered
+// edge's rows get weights of either sign): Phi_k = sum_l A_kl N_l with
+// int_c Phi_k N_l w = delta_kl int_c N_k w, A = D_c M_c^-1, from Mc = int_c N_k
+// N_l w (the standard D of the edge's pieces, integrate_piece) and D_c its
+// row sums. A whole edge in plane strain: Phi_a = 2 N_a - N_b. The identity
+// (the standard basis) where Mc is near singular: a sliver of coverage, or
+// an edge on the axis of symmetry.
+Mat22 dual_coefficients(const Mat22& Mc);
+
 // Adds a piece's integrals to D (2 x 2, slave a, b) and M (2 x 2: rows a, b;
-// columns A, B).
-void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p,
-                     std::array<std::array<double, 2>, 2>& D, std::array<std::array<double, 2>, 2>& M);
+// columns A, B). With `dual`, the rows' test functions are the dual basis
+// Phi_k (dual_coefficients) instead of N_k: D_kl = int Phi_k N_l w,
+// M_kL = int Phi_k N_L w.
+void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, Mat22& D, Mat22& M,
+                     const Mat22* dual = nullptr);
 
 }  // namespace rpfem

@@ -381,6 +381,10 @@ SolverSpec read_solver(CaseSection solver) {
   out.linear_solver = ls == "cholmod"   ? LinearSolverChoice::Cholmod
                       : ls == "umfpack" ? LinearSolverChoice::Umfpack
                                         : LinearSolverChoice::Auto;
+  const std::string ch = solver.text("cholesky", "supernodal", {"supernodal", "simplicial", "auto"});
+  out.cholesky = ch == "simplicial" ? CholeskyMode::Simplicial
+                 : ch == "auto"     ? CholeskyMode::Auto
+                                    : CholeskyMode::Supernodal;
   return out;
 }
 

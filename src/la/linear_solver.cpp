@@ -14,7 +14,7 @@ namespace {
 
 // Eigen's wrappers keep the factors protected: these read their condition
 // estimates.
-struct Cholesky : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
+struct Cholesky : Eigen::CholmodDecomposition<SpMat, Eigen::Lower> {
   double rcond() { return m_cholmodFactor ? cholmod_rcond(m_cholmodFactor, &cholmod()) : 0.0; }
 };
 struct LU : Eigen::UmfPackLU<SpMat> {
@@ -47,7 +47,10 @@ struct LinearSolver::Impl {
   LU lu;
   std::uint64_t llt_pattern = 0, lu_pattern = 0;  // 0: not analyzed
   bool use_lu = false;
-  Impl() {
+  explicit Impl(CholeskyMode mode) {
+    llt.setMode(mode == CholeskyMode::Simplicial ? Eigen::CholmodSimplicialLLt
+                : mode == CholeskyMode::Auto     ? Eigen::CholmodAuto
+                                                 : Eigen::CholmodSupernodalLLt);
     llt.cholmod().print = 0;  // the kernel never prints
     // Fill-reducing ordering by AMD only. CHOLMOD's default tries METIS
     // too where AMD's fill is large, and METIS installs its own SIGTERM
@@ -60,7 +63,8 @@ struct LinearSolver::Impl {
   }
 };
 
-LinearSolver::LinearSolver(LinearSolverChoice choice) : impl_(std::make_unique<Impl>()), choice_(choice) {}
+LinearSolver::LinearSolver(LinearSolverChoice choice, CholeskyMode mode)
+    : impl_(std::make_unique<Impl>(mode)), choice_(choice) {}
 LinearSolver::~LinearSolver() = default;
 
 bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t pattern_version) {

@@ -1,4 +1,4 @@
-// Sparse direct solves: CHOLMOD (supernodal LL^T) for a symmetric positive
+// Sparse direct solves: CHOLMOD (LL^T, supernodal or simplicial) for a symmetric positive
 // definite tangent, UMFPACK (LU) for a nonsymmetric one (frictional contact)
 // or when Cholesky finds the matrix indefinite. The symbolic analysis is
 // reused while the sparsity pattern is unchanged.
@@ -13,6 +13,14 @@
 namespace rpfem {
 
 enum class LinearSolverChoice { Auto, Cholmod, Umfpack };
+// CHOLMOD's factorization: supernodal (dense blocks through the BLAS) or
+// simplicial (column by column, no BLAS). Factor + solve of a tangent
+// (bench BM_Cholmod*, Debian's reference BLAS): simplicial 2.8, 1.8 and
+// 1.7 times faster at 1e3, 3e3 and 1e4 unknowns, 1.6 times slower at 1e5;
+// with OpenBLAS 1.6 times faster at 1e3, even at 1e4 (docs/notes.md).
+// Auto: CHOLMOD's own choice per analysis (supernodal where the
+// factorization's flops per nonzero of L reach 40, Common->supernodal_switch).
+enum class CholeskyMode { Supernodal, Simplicial, Auto };
 
 // Below this reciprocal condition estimate a tangent is ill-conditioned for
 // double precision: a direct solve's relative error is bounded by about
@@ -38,7 +46,8 @@ struct LinearSolveStats {
 
 class LinearSolver {
  public:
-  explicit LinearSolver(LinearSolverChoice choice = LinearSolverChoice::Auto);
+  explicit LinearSolver(LinearSolverChoice choice = LinearSolverChoice::Auto,
+                        CholeskyMode mode = CholeskyMode::Supernodal);
   ~LinearSolver();
   // Factorizes A; symmetric tells whether A is symmetric (then only CHOLMOD
   // is tried under Auto). pattern_version identifies A's sparsity pattern.

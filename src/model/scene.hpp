@@ -70,6 +70,7 @@ struct SolverSpec {
   double regularization = 0;          // viscous regularization, relative to sigma_y / rate_ref
   NewtonSettings newton;
   LinearSolverChoice linear_solver = LinearSolverChoice::Auto;
+  CholeskyMode cholesky = CholeskyMode::Supernodal;
   // Threads of the element loops (model/element_loop.hpp); the results do
   // not depend on it, bit for bit.
   int threads = 1;

@@ -26,7 +26,7 @@ struct ElementMaterial {
 
 // Persists across steps so the pattern and symbolic factorization are reused.
 struct SolverWorkspace {
-  explicit SolverWorkspace(LinearSolverChoice c) : linear(c) {}
+  explicit SolverWorkspace(LinearSolverChoice c, CholeskyMode m = CholeskyMode::Supernodal) : linear(c, m) {}
   SparseAssembler assembler;
   LinearSolver linear;
   DofMap dofs;

@@ -83,7 +83,7 @@ struct Solution {
 class Runner {
  public:
   Runner(const Scene& s, ContactFormulation& c, StepObserver& o)
-      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver) {
+      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver, s.solver.cholesky) {
     ws_.threads = s.solver.threads;
   }
 

@@ -25,7 +25,7 @@ using namespace rpfem;
 using accept::run_case;
 
 TEST(Mortar, PatchTestUnderEveryEnforcementWithEitherSlave) {
-  for (const std::string weights : {"consistent", "lumped"})
+  for (const std::string weights : {"consistent", "lumped", "dual"})
     for (const std::string enf : {"penalty", "auglag", "ipopt"})
       for (const std::string slave : {"body", "with"}) {
         const std::string label =

@@ -93,6 +93,42 @@ TEST(LinearSolver, CholmodAndUmfpackSolve) {
   EXPECT_LT((I * s.solve(b) - b).norm(), 1e-10);
 }
 
+// CHOLMOD's simplicial factorization (solver.cholesky) solves what the
+// supernodal one does, with a condition estimate, and falls back to LU on
+// an indefinite matrix the same way.
+TEST(LinearSolver, SimplicialCholeskySolvesAsSupernodal) {
+  const int n = 400;  // a 20 x 20 grid Laplacian plus a shift: SPD
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) {
+      const int k = 20 * i + j;
+      t.emplace_back(k, k, 4.5);
+      if (i > 0) t.emplace_back(k, k - 20, -1.0), t.emplace_back(k - 20, k, -1.0);
+      if (j > 0) t.emplace_back(k, k - 1, -1.0), t.emplace_back(k - 1, k, -1.0);
+    }
+  SpMat A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  const Vec b = Vec::LinSpaced(n, -1, 2);
+  LinearSolver super(LinearSolverChoice::Auto, CholeskyMode::Supernodal);
+  LinearSolver simple(LinearSolverChoice::Auto, CholeskyMode::Simplicial);
+  LinearSolver chosen(LinearSolverChoice::Auto, CholeskyMode::Auto);
+  ASSERT_TRUE(super.factorize(A, true, 1));
+  ASSERT_TRUE(simple.factorize(A, true, 1));
+  ASSERT_TRUE(chosen.factorize(A, true, 1));
+  EXPECT_LT((chosen.solve(b) - super.solve(b)).norm(), 1e-13 * b.norm());
+  EXPECT_EQ(simple.stats().last_solver, "cholmod");
+  const Vec x1 = super.solve(b), x2 = simple.solve(b);
+  EXPECT_LT((A * x2 - b).norm(), 1e-12 * b.norm());
+  EXPECT_LT((x1 - x2).norm(), 1e-13 * x1.norm());
+  EXPECT_NEAR(simple.stats().last_rcond, super.stats().last_rcond, 1e-12);
+  EXPECT_GT(simple.stats().last_rcond, 0.0);
+  SpMat I = A;
+  I.coeffRef(7, 7) = -4.0;
+  ASSERT_TRUE(simple.factorize(I, true, 1));
+  EXPECT_EQ(simple.stats().cholesky_fallbacks, 1);
+  EXPECT_LT((I * simple.solve(b) - b).norm(), 1e-10 * b.norm());
+}
+
 // Pi(u) = sum sqrt(1 + u_i^2) - c.u: residual, consistent tangent and
 // secant matrix S(u) u = R + c (S = 1 / sqrt(1 + u^2), as sigma / epsdot).
 struct SqrtProblem {

@@ -312,3 +312,55 @@ TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
         << "row of node " << r0[j].key << " at " << scene.mesh.x[r0[j].key].transpose();
   }
 }
+
+// The dual basis (contact.slave_weights = "dual"), biorthogonal on the part
+// of a slave edge the master covers: by hand for a whole edge (plane strain
+// Phi_a = 2 N_a - N_b; axisymmetric, the edge from the axis r = 0 to r = 1:
+// int N_a N_a r = int N_a N_b r = 1/12, int N_b N_b r = 1/4, so Phi_a = 3 N_a
+// - N_b and Phi_b = 2 N_b - 2 N_a, times 2 pi), and for a half-covered edge
+// the D of its piece diagonal with the standard D's row sums; a sliver of
+// coverage keeps the standard basis.
+TEST(MortarIntegrals, DualBasisIsBiorthogonalOnTheCoveredPart) {
+  const Vec2 up(0, 1), xa(0, 0), xb(1, 0);
+  const auto whole = mortar_piece(xa, xb, up, up, Vec2(-0.5, 0.2), Vec2(1.5, 0.2));
+  ASSERT_TRUE(whole);
+  const auto coefficients = [&](const MortarPiece& p, Geometry g) {
+    Mat2 Mc{}, unused{};
+    integrate_piece(xa, xb, g, p, Mc, unused);
+    return std::pair(dual_coefficients(Mc), Mc);
+  };
+  const auto [plane, Mp] = coefficients(*whole, Geometry::PlaneStrain);
+  EXPECT_NEAR(plane[0][0], 2, 1e-14);
+  EXPECT_NEAR(plane[0][1], -1, 1e-14);
+  EXPECT_NEAR(plane[1][0], -1, 1e-14);
+  EXPECT_NEAR(plane[1][1], 2, 1e-14);
+  const auto [axi, Ma] = coefficients(*whole, Geometry::Axisymmetric);
+  EXPECT_NEAR(axi[0][0], 3, 1e-13);
+  EXPECT_NEAR(axi[0][1], -1, 1e-13);
+  EXPECT_NEAR(axi[1][0], -2, 1e-13);
+  EXPECT_NEAR(axi[1][1], 2, 1e-13);
+  // Half covered (master [0.5, 1.5] over xi in [0.5, 1]), either geometry.
+  const auto half = mortar_piece(xa, xb, up, up, Vec2(0.5, 0.2), Vec2(1.5, 0.2));
+  ASSERT_TRUE(half);
+  EXPECT_NEAR(half->xi0, 0.5, 1e-15);
+  for (const Geometry g : {Geometry::PlaneStrain, Geometry::Axisymmetric}) {
+    const auto [A, Mc] = coefficients(*half, g);
+    Mat2 D{}, M{};
+    integrate_piece(xa, xb, g, *half, D, M, &A);
+    for (int k = 0; k < 2; ++k) {
+      const double sum = Mc[k][0] + Mc[k][1];
+      EXPECT_GT(sum, 0);
+      EXPECT_NEAR(D[k][k], sum, 1e-14) << k;
+      EXPECT_NEAR(D[k][1 - k], 0.0, 1e-14) << k;
+      EXPECT_NEAR(M[k][0] + M[k][1], sum, 1e-14) << k;  // the rows of D and M sum alike: the patch test
+    }
+  }
+  // A sliver (1e-3 of the edge): the standard basis.
+  const auto sliver = mortar_piece(xa, xb, up, up, Vec2(1 - 1e-3, 0.2), Vec2(2, 0.2));
+  ASSERT_TRUE(sliver);
+  const auto [S, Ms] = coefficients(*sliver, Geometry::PlaneStrain);
+  EXPECT_EQ(S[0][0], 1.0);
+  EXPECT_EQ(S[0][1], 0.0);
+  EXPECT_EQ(S[1][0], 0.0);
+  EXPECT_EQ(S[1][1], 1.0);
+}
