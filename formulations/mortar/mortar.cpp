@@ -156,15 +156,14 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
       for (const auto& [m, piece] : pieces) integrate_piece(xa, xb, g, piece, Mc, unused);
       A = dual_coefficients(Mc);
     }
-    for (const auto& [m, p] : pieces) {
-      const MortarPiece* piece = &p;
+    for (const auto& [m, piece] : pieces) {
       const Edge& me = Mst.edges[m];
       const Vec2 &xA = xm[me.a], &xB = xm[me.b];
       const Vec2 master_out = outward(xB - xA);
       Mat22 D{}, M{};
-      integrate_piece(xa, xb, g, *piece, D, M, dual ? &A : nullptr);
+      integrate_piece(xa, xb, g, piece, D, M, dual ? &A : nullptr);
       // Where its surfaces are closest: the gap at the piece's ends.
-      const double nearest = std::min(gap_at(piece->xi0, piece->eta0, xA, xB), gap_at(piece->xi1, piece->eta1, xA, xB));
+      const double nearest = std::min(gap_at(piece.xi0, piece.eta0, xA, xB), gap_at(piece.xi1, piece.eta1, xA, xB));
       const std::array<int, 2> local{a, b};
       const std::array<Index, 2> snode{e.a, e.b}, mnode{me.a, me.b};
       for (int k = 0; k < 2; ++k) {

@@ -141,6 +141,18 @@ void unlock(const std::string& dir) {
   locks.erase(it);
 }
 
+// Clears folder d (clear(d)) while holding its lock (InputError if another
+// rpfem process holds it; `option` names it), then removes d if nothing is
+// left in it.
+template <class Clear>
+void clear_and_remove(const fs::path& d, const std::string& option, Clear clear) {
+  make_output_folder(d.string(), option);
+  clear(d);
+  unlock(d.string());
+  std::error_code ec;
+  fs::remove(d, ec);  // only if nothing else is left in it
+}
+
 // The variant a run folder's summary.json names ("" if none or no summary).
 std::string summary_variant(const fs::path& dir) {
   std::ifstream in(dir / "summary.json");
@@ -208,13 +220,8 @@ void remove_previous_outputs(const std::string& dir) {
     for (const auto& name : command_folders())
       if (fs::is_directory(d / name, ec) && !fs::is_symlink(d / name, ec)) fs::remove_all(d / name, ec);
   };
-  for (const auto& d : folders) {
-    if (!fs::exists(d, ec)) continue;  // inside a folder removed whole (report_files/, slurm/)
-    make_output_folder(d.string(), "folder");
-    clear(d);
-    unlock(d.string());
-    fs::remove(d, ec);  // only if nothing else is left in it
-  }
+  for (const auto& d : folders)
+    if (fs::exists(d, ec)) clear_and_remove(d, "folder", clear);  // (not inside report_files/, slurm/, removed whole)
   clear(dir);
 }
 
@@ -242,13 +249,12 @@ void remove_stale_variant_runs(const std::string& parent, const std::vector<std:
     if (!entry.is_directory(ec) || std::find(keep.begin(), keep.end(), name) != keep.end()) continue;
     if (summary_variant(entry.path()) == name) stale.push_back(entry.path());
   }
-  for (const auto& d : stale) {
-    make_output_folder(d.string(), "variant folder");
-    remove_run_results(d.string());
-    fs::remove(d / "run.log", ec);
-    unlock(d.string());
-    fs::remove(d, ec);  // only if nothing else is left in it
-  }
+  for (const auto& d : stale)
+    clear_and_remove(d, "variant folder", [](const fs::path& f) {
+      remove_run_results(f.string());
+      std::error_code e;
+      fs::remove(f / "run.log", e);
+    });
 }
 
 }  // namespace rpfem

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -24,16 +25,20 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Whether r's folder holds a finished run of the same request.
-bool finished_before(const PoolRun& r) {
+// The wall time of the finished run of the same request r's folder holds,
+// if it holds one. (A pool passes no --discretization: the request's is
+// empty.)
+std::optional<double> finished_before(const PoolRun& r) {
   const Summary s(r.dir);
-  if (s.string("status").value_or("") != "finished") return false;
+  if (s.string("status").value_or("") != "finished") return std::nullopt;
   std::error_code ec;
   const fs::path want = fs::weakly_canonical(fs::absolute(r.case_file), ec);
   const fs::path had = fs::weakly_canonical(s.string("request.case_file").value_or(""), ec);
-  return want == had && s.string("request.formulation").value_or("?") == r.formulation &&
-         s.string("request.discretization").value_or("?").empty() &&
-         s.string("request.variant").value_or("?") == r.variant && s.strings("request.set") == r.overrides;
+  const bool same = want == had && s.string("request.formulation").value_or("?") == r.formulation &&
+                    s.string("request.discretization").value_or("?").empty() &&
+                    s.string("request.variant").value_or("?") == r.variant && s.strings("request.set") == r.overrides;
+  if (!same) return std::nullopt;
+  return s.number("wall_time_s").value_or(0.0);
 }
 
 volatile std::sig_atomic_t g_interrupted = 0;
@@ -239,7 +244,7 @@ void run_runs(std::vector<PoolRun>& runs, const std::string& work_dir, const Eng
   for (auto& r : runs) r.rc = -1;
   if (engine.resume)
     for (auto& r : runs)
-      if (finished_before(r)) r.rc = 0, r.seconds = Summary(r.dir).number("wall_time_s").value_or(0.0);
+      if (const auto seconds = finished_before(r)) r.rc = 0, r.seconds = *seconds;
   if (engine.engine == "local")
     run_pool(runs, jobs, quiet);
   else if (engine.engine == "slurm")

@@ -66,54 +66,13 @@ void SparseAssembler::add_quad(Index e, const Index* nodes, const double* K) {
     return;
   }
   const int* pos = quad_pos_.data() + 64 * e;
-  double* val = A_.valuePtr();
-  for (int b = 0; b < 4; ++b) {
-    const NodeFrame& fb = dofs_->frame(nodes[b]);
-    if (fb.nfree == 0) continue;
-    for (int a = 0; a < 4; ++a) {
-      const NodeFrame& fa = dofs_->frame(nodes[a]);
-      if (fa.nfree == 0) continue;
-      Eigen::Matrix2d Kab;
-      Kab << K[(2 * b) * 8 + 2 * a], K[(2 * b + 1) * 8 + 2 * a], K[(2 * b) * 8 + 2 * a + 1],
-          K[(2 * b + 1) * 8 + 2 * a + 1];
-      const Eigen::Matrix2d R = fa.T.transpose() * Kab * fb.T;
-      const int* p = pos + 16 * b + 4 * a;
-      for (int j = 0; j < fb.nfree; ++j)
-        for (int i = 0; i < fa.nfree; ++i) val[p[2 * j + i]] += R(i, j);
-    }
-  }
+  scatter(nodes, 4, K, [pos](int b, int a, int j, int i, Index, Index) { return pos[16 * b + 4 * a + 2 * j + i]; });
 }
 
 void SparseAssembler::set_zero() { std::fill_n(A_.valuePtr(), A_.nonZeros(), 0.0); }
 
 void SparseAssembler::add(const Index* nodes, int k, const double* K) {
-  const int ld = 2 * k;
-  const int* outer = A_.outerIndexPtr();
-  const int* inner = A_.innerIndexPtr();
-  double* val = A_.valuePtr();
-  for (int b = 0; b < k; ++b) {
-    const NodeFrame& fb = dofs_->frame(nodes[b]);
-    if (fb.nfree == 0) continue;
-    for (int a = 0; a < k; ++a) {
-      const NodeFrame& fa = dofs_->frame(nodes[a]);
-      if (fa.nfree == 0) continue;
-      Eigen::Matrix2d Kab;
-      Kab << K[(2 * b) * ld + 2 * a], K[(2 * b + 1) * ld + 2 * a],
-             K[(2 * b) * ld + 2 * a + 1], K[(2 * b + 1) * ld + 2 * a + 1];
-      const Eigen::Matrix2d R = fa.T.transpose() * Kab * fb.T;
-      for (int j = 0; j < fb.nfree; ++j) {
-        const Index col = fb.dof[j];
-        const int* begin = inner + outer[col];
-        const int* end = inner + outer[col + 1];
-        for (int i = 0; i < fa.nfree; ++i) {
-          const int row = static_cast<int>(fa.dof[i]);
-          const int* pos = std::lower_bound(begin, end, row);
-          if (pos == end || *pos != row) throw std::logic_error("sparse assembly outside the pattern");
-          val[pos - inner] += R(i, j);
-        }
-      }
-    }
-  }
+  scatter(nodes, k, K, [this](int, int, int, int, Index row, Index col) { return position(row, col); });
 }
 
 }  // namespace rpfem

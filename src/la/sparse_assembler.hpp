@@ -41,6 +41,28 @@ class SparseAssembler {
   std::vector<std::array<Index, 4>> quads_;  // their nodes: another quad e is added by add()
 
   int position(Index row, Index col) const;
+  // A += T^T K T for the nodal block K (2k x 2k, column-major), each entry
+  // (column node b, row node a, free directions j, i; reduced row and
+  // column) at the value position where(b, a, j, i, row, col).
+  template <class Where>
+  void scatter(const Index* nodes, int k, const double* K, Where where) {
+    const int ld = 2 * k;
+    double* val = A_.valuePtr();
+    for (int b = 0; b < k; ++b) {
+      const NodeFrame& fb = dofs_->frame(nodes[b]);
+      if (fb.nfree == 0) continue;
+      for (int a = 0; a < k; ++a) {
+        const NodeFrame& fa = dofs_->frame(nodes[a]);
+        if (fa.nfree == 0) continue;
+        Eigen::Matrix2d Kab;
+        Kab << K[(2 * b) * ld + 2 * a], K[(2 * b + 1) * ld + 2 * a], K[(2 * b) * ld + 2 * a + 1],
+            K[(2 * b + 1) * ld + 2 * a + 1];
+        const Eigen::Matrix2d R = fa.T.transpose() * Kab * fb.T;
+        for (int j = 0; j < fb.nfree; ++j)
+          for (int i = 0; i < fa.nfree; ++i) val[where(b, a, j, i, fa.dof[i], fb.dof[j])] += R(i, j);
+      }
+    }
+  }
 };
 
 }  // namespace rpfem

@@ -116,6 +116,11 @@ double StepProblem::energy(const Vec& u) const {
   for_each_element(ne, ws_.threads, [&](Index el) { pi[el] = rigid_plastic_energy(element_input(el, v)); });
   double e = 0;
   for (Index el = 0; el < ne; ++el) e += pi[el];
+  return energy_from_elements(v, e, t0);
+}
+
+double StepProblem::energy_from_elements(const std::vector<Vec2>& v, double elements, Clock::time_point t0) const {
+  double e = elements;
   for (std::size_t i = 0; i < v.size(); ++i) e -= fext_[i].dot(v[i]);
   lap(t0, ws_.residual_seconds);
   EnergySink sink;
@@ -184,17 +189,10 @@ void StepProblem::residual(const Vec& u, Vec& R, double& scale) const {
 double StepProblem::residual_energy(const Vec& u, Vec& R, double& scale) const {
   std::vector<Vec2> v, F;
   ws_.dofs.expand(u, v);
-  double e = 0;
-  scale = nodal_forces(v, F, &e);
+  double elements = 0;
+  scale = nodal_forces(v, F, &elements);
   reduce_forces(ws_.dofs, F, R);
-  // The rest of energy(): the external power, then the contact's terms.
-  auto t0 = Clock::now();
-  for (std::size_t i = 0; i < v.size(); ++i) e -= fext_[i].dot(v[i]);
-  lap(t0, ws_.residual_seconds);
-  EnergySink sink;
-  contact_.add_terms(view_, v, sink);
-  lap(t0, ws_.contact_seconds);
-  return e + sink.total;
+  return energy_from_elements(v, elements, Clock::now());
 }
 
 const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {

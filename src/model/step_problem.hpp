@@ -9,6 +9,7 @@
 #include <array>
 #include <vector>
 
+#include "core/timing.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/rigid_plastic_element.hpp"
 #include "la/linear_solver.hpp"
@@ -85,6 +86,11 @@ class StepProblem {
   void set_force_floor(double f) { force_floor_ = f; }
 
  private:
+  // Pi given the elements' sum at nodal velocities v: less the external
+  // power, plus the contact's terms (energy()'s and residual_energy()'s
+  // end); the time from t0 counts as the residual's, then the contact's.
+  double energy_from_elements(const std::vector<Vec2>& v, double elements, Clock::time_point t0) const;
+
   const StepView& view_;
   const std::vector<std::array<double, 4>>& strain_;
   const std::vector<ElementMaterial>& materials_;

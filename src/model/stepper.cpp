@@ -446,20 +446,20 @@ void Runner::set_up() {
   derived_.contact = info.derived;
   // No run starts on scales double precision cannot hold: a flow stress of
   // 1e308 MPa made alpha infinite, the first residual NaN, and
-  // summary.json read "Infinity".
-  for (std::size_t b = 0; b < scene_.bodies.size(); ++b)
-    if (!std::isfinite(derived_.alpha[b]) || !std::isfinite(scene_.bodies[b].law.yield(0.0)))
-      throw InputError(scene_.file + ": key 'bodies." + scene_.bodies[b].name +
+  // summary.json read "Infinity". Likewise the regularization's viscosity,
+  // c = regularization sigma_y (as in fem/rigid_plastic_element.cpp).
+  for (std::size_t b = 0; b < scene_.bodies.size(); ++b) {
+    const BodySpec& body = scene_.bodies[b];
+    if (!std::isfinite(derived_.alpha[b]) || !std::isfinite(body.law.yield(0.0)))
+      throw InputError(scene_.file + ": key 'bodies." + body.name +
                        ".material': its initial flow stress gives a volumetric penalty alpha of " +
                        std::to_string(derived_.alpha[b]) +
                        " MPa s; expected a flow stress and speeds whose scales are finite in double precision");
-  // The regularization's viscosity, c = regularization sigma_y (as in the
-  // element: fem/rigid_plastic_element.cpp), the same way.
-  for (const auto& b : scene_.bodies)
-    if (!std::isfinite(derived_.regularization * b.law.yield(0.0)))
-      throw InputError(scene_.file + ": key 'solver.regularization': with body '" + b.name +
+    if (!std::isfinite(derived_.regularization * body.law.yield(0.0)))
+      throw InputError(scene_.file + ": key 'solver.regularization': with body '" + body.name +
                        "' its viscosity is not finite in double precision; expected a regularization whose product "
                        "with the flow stress over the reference strain rate is finite");
+  }
   const std::vector<NamedValue> scales = {{"reference strain rate (1/s)", derived_.reference_strain_rate},
                                           {"nominal step (s)", derived_.dt_nominal},
                                           {"force scale (N)", derived_.force_floor}};

@@ -67,12 +67,13 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
     bool accepted = false;
     for (int h = 0; h <= s.max_halvings; ++h) {
       trial = u + step * du;
-      if (use_energy && sys.residual_energy)
+      if (!use_energy)
+        sys.residual(trial, Rtrial, trial_scale);
+      else if (sys.residual_energy)
         trial_energy = sys.residual_energy(trial, Rtrial, trial_scale);
       else
-        sys.residual(trial, Rtrial, trial_scale);
+        sys.residual(trial, Rtrial, trial_scale), trial_energy = sys.energy(trial);
       if (use_energy) {
-        if (!sys.residual_energy) trial_energy = sys.energy(trial);
         accepted = std::isfinite(trial_energy) && trial_energy <= energy + s.armijo * step * slope;
         // Energy changes at round-off (a converging virtual rigid body's
         // terms cancel to 1e-16 of Pi): the residual decides.

@@ -402,6 +402,30 @@ TEST(Conformance, FrictionlessEnforcementsAgreeToFirstOrderInOneOverBeta) {
   EXPECT_NEAR(std::log10(d1 / d2), 1.0, 0.2) << d1 << " " << d2;
 }
 
+// The step after a run's last at its configuration, begun by the run's
+// contact, as a StepProblem with the contact's constraints (every element
+// at strain 0.1, volumetric penalty 1e4; fext: the nodes' external forces,
+// zero if empty). Not moved: the problem refers to its members.
+struct NextStep {
+  StepView view;
+  std::vector<std::array<double, 4>> strain;
+  std::vector<ElementMaterial> materials;
+  std::vector<Vec2> fext;
+  SolverWorkspace ws{LinearSolverChoice::Auto};
+  std::unique_ptr<StepProblem> problem;
+  NextStep(ContactRun& run, std::vector<Vec2> external = {})
+      : view(next_step(*run.scene, run.out.steps.back())),
+        strain(run.scene->mesh.num_elements(), {0.1, 0.1, 0.1, 0.1}),
+        materials(run.scene->mesh.num_elements(), {&run.scene->bodies[0].law, 1e4, 0.0}),
+        fext(external.empty() ? std::vector<Vec2>(run.scene->mesh.num_nodes(), Vec2::Zero()) : std::move(external)) {
+    run.contact->begin_step(view);
+    problem = std::make_unique<StepProblem>(view, strain, materials, 1e-3, fext, *run.contact, ws);
+    std::vector<NodeConstraint> cons;
+    run.contact->constraints(view, cons);
+    problem->set_constraints(cons);
+  }
+};
+
 // Coulomb under direct: the bound mu N follows the node's reaction N = n .
 // F_s within Newton, and the kernel's tangent carries its derivative (the
 // elements' Hessian rows of the node, TermSink::add_force_coupling). The
@@ -412,20 +436,11 @@ TEST(Conformance, DirectCoulombTangentIsTheResidualsDerivative) {
   ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
   const Scene& scene = *run.scene;
   const StepRecord& last = run.out.steps.back();
-  const StepView view = next_step(scene, last);
-  run.contact->begin_step(view);
+  NextStep next(run);
+  StepProblem& problem = *next.problem;
   std::vector<Index> force_nodes;
-  run.contact->force_nodes(view, force_nodes);
+  run.contact->force_nodes(next.view, force_nodes);
   ASSERT_FALSE(force_nodes.empty()) << "no Coulomb row follows its reaction";
-  const Index ne = scene.mesh.num_elements();
-  const std::vector<std::array<double, 4>> strain(ne, {0.1, 0.1, 0.1, 0.1});
-  const std::vector<ElementMaterial> materials(ne, {&scene.bodies[0].law, 1e4, 0.0});
-  const std::vector<Vec2> fext(scene.mesh.num_nodes(), Vec2::Zero());
-  SolverWorkspace ws(LinearSolverChoice::Auto);
-  StepProblem problem(view, strain, materials, 1e-3, fext, *run.contact, ws);
-  std::vector<NodeConstraint> cons;
-  run.contact->constraints(view, cons);
-  problem.set_constraints(cons);
   EXPECT_FALSE(run.contact->tangent().symmetric);
   for (double shift : {0.0, 0.02}) {
     std::vector<Vec2> v = last.v;
@@ -462,18 +477,10 @@ TEST(Conformance, ResidualAndEnergyInOnePassAreTheTwoCallsBits) {
   ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
   const Scene& scene = *run.scene;
   const StepRecord& last = run.out.steps.back();
-  const StepView view = next_step(scene, last);
-  run.contact->begin_step(view);
-  const Index ne = scene.mesh.num_elements();
-  const std::vector<std::array<double, 4>> strain(ne, {0.1, 0.1, 0.1, 0.1});
-  const std::vector<ElementMaterial> materials(ne, {&scene.bodies[0].law, 1e4, 0.0});
   std::vector<Vec2> fext(scene.mesh.num_nodes(), Vec2::Zero());
   fext[0] = Vec2(3.0, -2.0);  // the external power's term too
-  SolverWorkspace ws(LinearSolverChoice::Auto);
-  StepProblem problem(view, strain, materials, 1e-3, fext, *run.contact, ws);
-  std::vector<NodeConstraint> cons;
-  run.contact->constraints(view, cons);
-  problem.set_constraints(cons);
+  NextStep next(run, fext);
+  StepProblem& problem = *next.problem;
   ASSERT_TRUE(problem.newton_system().residual_energy) << "penalty has a potential";
   for (double shift : {0.0, 0.05}) {
     std::vector<Vec2> v = last.v;
