@@ -9,7 +9,13 @@
 namespace rpfem {
 
 Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfaces_(scene) {
-  capture_ = settings.real("capture", 1.0, Range{SegmentGrid::kCaptureMin, SegmentGrid::kCaptureMax}, "search reach, relative to the mean master edge length");
+  const std::string weights = settings.text("slave_weights", "dual", {"dual", "consistent", "lumped"});
+  lumped_ = weights == "lumped";
+  dual_ = weights == "dual";
+  // The reach: dual rows measure the gap at points, and pieces farther off
+  // only add their dual functions' negative lobes (mortar.hpp).
+  capture_ = settings.real("capture", dual_ ? kDualCapture : 1.0, Range{SegmentGrid::kCaptureMin, SegmentGrid::kCaptureMax},
+                           "search reach, relative to the mean master edge length");
   // The slave of each interface between bodies: the finer surface, each
   // pair's body, its other (`with`) body, or both in turn (two half
   // passes).
@@ -19,9 +25,6 @@ Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfac
   // Against rigid dies: node-to-die rows (the die's surface is exact) or
   // mortar rows like those between bodies.
   die_mortar_ = settings.text("dies", "node", {"node", "mortar"}) == "mortar";
-  const std::string weights = settings.text("slave_weights", "consistent", {"consistent", "lumped", "dual"});
-  lumped_ = weights == "lumped";
-  dual_ = weights == "dual";
 }
 
 void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>&) {
@@ -72,7 +75,9 @@ namespace {
 struct RowSums {
   std::map<Index, double> D, M;
   double nearest = INFINITY;  // mm, the least gap at the ends of its pieces
-  Vec2 master_normal = Vec2::Zero();  // int N_j n_master w over its pieces
+  // int Theta_j n w over its pieces: n the master's outward normal (the
+  // slave edge's inward one at a dual interval's end inside the edge).
+  Vec2 direction = Vec2::Zero();
   std::map<Index, double> element_share;  // master element -> sum of M over it
 };
 
@@ -102,6 +107,14 @@ void die_chords(const Die& die, double t, double sagitta, std::vector<Vec2>& xd,
   for (std::size_t k = 0; k + 1 < xd.size(); ++k) S.edges.push_back({Index(k), Index(k + 1), Index(-1)});
   for (std::size_t k = 0; k < xd.size(); ++k) S.nodes.push_back(Index(k));
 }
+
+// An end of a covered interval farther than this from the edge's ends (in
+// xi) lies inside the edge.
+constexpr double kInsideEdge = 1e-9;
+// Dual rows: a master edge faces a slave edge when their outward normals
+// are more than 120 degrees apart (cos < -kDualFacing; any opposed pair
+// for the other weights).
+constexpr double kDualFacing = 0.5;
 
 // The mortar integrals of every slave edge of S against the master edges
 // of Mst (coordinates xm) facing it within reach `capture`, summed per
@@ -140,28 +153,44 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
     for (const int m : seen) {
       const Edge& me = Mst.edges[m];
       const Vec2 &xA = xm[me.a], &xB = xm[me.b];
-      if (outward(xB - xA).dot(slave_out) >= 0) continue;  // the master edge does not face the slave
+      // The master edge must face the slave edge. Dual rows take the pieces'
+      // extent as the interval they measure at the ends of, so a master
+      // edge at a grazing angle beyond a master corner (a punch's side over
+      // the block's edge that the corner presses, tilting by 25 degrees in
+      // role_switch_flat_punch) would move the end off the corner.
+      if (outward(xB - xA).dot(slave_out) >= (dual ? -kDualFacing : 0.0)) continue;
       const auto piece = mortar_piece(xa, xb, normal[a], normal[b], xA, xB);
       if (!piece) continue;
-      // Within reach: the gap at the piece's middle.
-      if (std::abs(gap_at(0.5 * (piece->xi0 + piece->xi1), 0.5 * (piece->eta0 + piece->eta1), xA, xB)) > capture)
-        continue;
-      pieces.emplace_back(m, *piece);
+      // The part in the master edge's own normal slab (mortar_integrals.hpp):
+      // not the shadow of a master corner.
+      auto within = clip_to_slab(*piece, xa, xb, xA, xB);
+      // Within reach: the part whose gap is within +-capture, the gap taken
+      // linear along the piece. Clipped, not taken or left whole, so the
+      // integrals change continuously as the surfaces approach.
+      if (within)
+        within = clip_piece(*within, gap_at(within->xi0, within->eta0, xA, xB), gap_at(within->xi1, within->eta1, xA, xB),
+                            -capture, capture);
+      if (within) pieces.emplace_back(m, *within);
     }
-    // Dual weights: the basis biorthogonal on the covered part (the sum of
-    // the pieces' standard D).
-    Mat22 A{};
-    if (dual) {
-      Mat22 Mc{}, unused{};
-      for (const auto& [m, piece] : pieces) integrate_piece(xa, xb, g, piece, Mc, unused);
-      A = dual_coefficients(Mc);
+    // Dual weights: the basis biorthogonal to the linear functions of the
+    // covered interval [lo, hi] (the pieces' extent), so a row measures the
+    // gap at its end of the interval: at the node where the master covers
+    // the whole edge, at the master's end (a punch's corner) where it covers
+    // a part, never extrapolated beyond what the master covers.
+    TestBasis test;
+    if (dual && !pieces.empty()) {
+      test.lo = 1, test.hi = 0;
+      for (const auto& [m, piece] : pieces) test.lo = std::min(test.lo, piece.xi0), test.hi = std::max(test.hi, piece.xi1);
+      Mat22 ML{};
+      for (const auto& [m, piece] : pieces) add_interval_mass(xa, xb, g, piece, test.lo, test.hi, ML);
+      test.C = dual_coefficients(ML);
     }
     for (const auto& [m, piece] : pieces) {
       const Edge& me = Mst.edges[m];
       const Vec2 &xA = xm[me.a], &xB = xm[me.b];
       const Vec2 master_out = outward(xB - xA);
       Mat22 D{}, M{};
-      integrate_piece(xa, xb, g, piece, D, M, dual ? &A : nullptr);
+      integrate_piece(xa, xb, g, piece, D, M, dual ? &test : nullptr);
       // Where its surfaces are closest: the gap at the piece's ends.
       const double nearest = std::min(gap_at(piece.xi0, piece.eta0, xA, xB), gap_at(piece.xi1, piece.eta1, xA, xB));
       const std::array<int, 2> local{a, b};
@@ -169,7 +198,13 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
       for (int k = 0; k < 2; ++k) {
         RowSums& r = sums[local[k]];
         r.nearest = std::min(r.nearest, nearest);
-        r.master_normal += (D[k][0] + D[k][1]) * master_out;
+        // A dual row's end of the covered interval inside the edge (a master
+        // corner there) measures the gap of that corner against the slave
+        // edge: along the edge's normal, as the corner slides along the
+        // edge (along the master's, the edge's tilt times the sliding would
+        // open or close the gap within a step, first order).
+        const bool inside = dual && (k == 0 ? test.lo > kInsideEdge : test.hi < 1 - kInsideEdge);
+        r.direction += (D[k][0] + D[k][1]) * (inside ? Vec2(-slave_out) : master_out);
         for (int l = 0; l < 2; ++l) {
           r.D[snode[l]] += D[k][l];
           r.M[mnode[l]] += M[k][l];
@@ -232,13 +267,14 @@ void Mortar::add_rows(const StepView& v, int iface, int s, std::vector<ContactRo
                        " on " + f.name + " couples more than " + std::to_string(kMaxRowNodes) +
                        " nodes (a master surface far finer than its slave): expected the finer surface as the slave");
     if (die) row.kin.offset = M_sum * scene_.dies[f.die].motion.velocity(v.time);
-    // The row's direction: the master's outward normal averaged with N_j
-    // over the pieces. Where the slave surface is smooth it is minus the
-    // slave's nodal normal to within the angle between the two surfaces;
-    // at a corner of the slave surface (a billet's edge against a punch
-    // face) the averaged nodal normal would tilt the row, and a
-    // frictionless contact would push the master along its face.
-    row.kin.n = r.master_normal.normalized();
+    // The row's direction: the master's outward normal averaged with the
+    // test function over the pieces (at a dual interval's end inside an
+    // edge, the edge's normal: RowSums). Where the slave surface is smooth
+    // it is minus the slave's nodal normal to within the angle between the
+    // two surfaces; at a corner of the slave surface (a billet's edge
+    // against a punch face) the averaged nodal normal would tilt the row,
+    // and a frictionless contact would push the master along its face.
+    row.kin.n = r.direction.normalized();
     for (int a = 0; a < row.kin.k; ++a) gap += row.kin.c[a] * x[row.kin.nodes[a]];
     row.kin.gap0 = row.kin.gap_from = (gap - master).dot(row.kin.n);
     row.gap_normal = row.kin.n;
@@ -246,9 +282,8 @@ void Mortar::add_rows(const StepView& v, int iface, int s, std::vector<ContactRo
     // support, so it closes gradually as the contact zone grows over it,
     // and it may touch while open. Lumped: the slave node's own gap against
     // the master's weighted surface, which lands as a node does.
-    // Dual weights: D is diagonal where the slave's edges lie whole under
-    // the master, the row's gap the node's own against the master averaged
-    // with Phi_j: it lands as a node does.
+    // Dual weights: the row's gap is a point's (its node's, or a master
+    // corner's on its edge) against the master: it lands as a node does.
     if (!lumped_ && !dual_) row.touch_gap = r.nearest, row.lands = false;
     if (!die)
       row.master_element = std::max_element(r.element_share.begin(), r.element_share.end(),

@@ -79,11 +79,36 @@ std::optional<MortarPiece> mortar_piece(const Vec2& xa, const Vec2& xb, const Ve
   return p;
 }
 
+std::optional<MortarPiece> clip_piece(const MortarPiece& p, double f0, double f1, double lo, double hi) {
+  // t in [0, 1] along the piece, f(t) = f0 + t (f1 - f0).
+  double t0 = 0, t1 = 1;
+  const double df = f1 - f0;
+  if (df == 0) {
+    if (f0 < lo || f0 > hi) return std::nullopt;
+  } else {
+    const double a = (lo - f0) / df, b = (hi - f0) / df;  // where f crosses lo and hi
+    t0 = std::max(t0, std::min(a, b)), t1 = std::min(t1, std::max(a, b));
+  }
+  MortarPiece q = p;
+  const double dxi = p.xi1 - p.xi0, deta = p.eta1 - p.eta0;
+  q.xi0 = p.xi0 + t0 * dxi, q.xi1 = p.xi0 + t1 * dxi;
+  q.eta0 = p.eta0 + t0 * deta, q.eta1 = p.eta0 + t1 * deta;
+  if (!(q.xi1 - q.xi0 > kEndTolerance)) return std::nullopt;
+  return q;
+}
+
+std::optional<MortarPiece> clip_to_slab(const MortarPiece& p, const Vec2& xa, const Vec2& xb, const Vec2& xA,
+                                        const Vec2& xB) {
+  // s(xi) = (x(xi) - xA) . (xB - xA) / |xB - xA|^2, in [0, 1] on the slab.
+  const Vec2 tm = (xB - xA) / (xB - xA).squaredNorm();
+  const auto s = [&](double xi) { return (xa + xi * (xb - xa) - xA).dot(tm); };
+  return clip_piece(p, s(p.xi0), s(p.xi1), 0.0, 1.0);
+}
+
 Mat22 dual_coefficients(const Mat22& Mc) {
-  // det / trace^2 is 3/16 for a whole edge in plane strain and falls with
-  // the square of the covered fraction near an end: below kSliver (about
-  // 2 % of the edge covered) the inverse would give coefficients of 1e2 and
-  // more for a contribution that small.
+  // det / trace^2 is 3/16 for an interval in plane strain and 1/8 for one
+  // starting on the axis; below kSliver Mc is singular to round-off (an
+  // interval of zero length or weight).
   constexpr double kSliver = 1e-4;
   const double det = Mc[0][0] * Mc[1][1] - Mc[0][1] * Mc[1][0];
   const double trace = Mc[0][0] + Mc[1][1];
@@ -93,22 +118,48 @@ Mat22 dual_coefficients(const Mat22& Mc) {
   return Mat22{{{Dc[0] * Mc[1][1] / det, -Dc[0] * Mc[0][1] / det}, {-Dc[1] * Mc[1][0] / det, Dc[1] * Mc[0][0] / det}}};
 }
 
-void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, Mat22& D, Mat22& M,
-                     const Mat22* dual) {
+namespace {
+
+// The 2-point Gauss rule over a piece (exact for the integrands here, of
+// degree 3 at most): f(xi, eta, w) at each point, w the weight of
+// integrate_piece.
+template <class F>
+void for_each_point(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, F&& f) {
   const double L = (xb - xa).norm(), J = p.xi1 - p.xi0;
   constexpr double kGauss = 0.5773502691896257;  // 1 / sqrt 3: the 2-point rule on [-1, 1]
   for (const double s : {-kGauss, kGauss}) {
     const double t = 0.5 * (1 + s);  // in [0, 1] along the piece
     const double xi = p.xi0 + t * J, eta = p.eta0 + t * (p.eta1 - p.eta0);
     const double r = (1 - xi) * xa(0) + xi * xb(0);
-    const double w = 0.5 * J * L * (g == Geometry::Axisymmetric ? 2 * kPi * r : 1.0);
-    const std::array<double, 2> N{1 - xi, xi}, NM{1 - eta, eta};
-    std::array<double, 2> test = N;  // the rows' test functions: N_k, or Phi_k
-    if (dual)
-      for (int k = 0; k < 2; ++k) test[k] = (*dual)[k][0] * N[0] + (*dual)[k][1] * N[1];
-    for (int k = 0; k < 2; ++k)
-      for (int l = 0; l < 2; ++l) D[k][l] += test[k] * N[l] * w, M[k][l] += test[k] * NM[l] * w;
+    f(xi, eta, 0.5 * J * L * (g == Geometry::Axisymmetric ? 2 * kPi * r : 1.0));
   }
+}
+
+}  // namespace
+
+std::array<double, 2> TestBasis::at(double xi) const {
+  const double s = (xi - lo) / (hi - lo);
+  return {C[0][0] * (1 - s) + C[0][1] * s, C[1][0] * (1 - s) + C[1][1] * s};
+}
+
+void add_interval_mass(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, double lo, double hi,
+                       Mat22& ML) {
+  for_each_point(xa, xb, g, p, [&](double xi, double, double w) {
+    const double s = (xi - lo) / (hi - lo);
+    const std::array<double, 2> L{1 - s, s};
+    for (int k = 0; k < 2; ++k)
+      for (int l = 0; l < 2; ++l) ML[k][l] += L[k] * L[l] * w;
+  });
+}
+
+void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, Mat22& D, Mat22& M,
+                     const TestBasis* test) {
+  for_each_point(xa, xb, g, p, [&](double xi, double eta, double w) {
+    const std::array<double, 2> N{1 - xi, xi}, NM{1 - eta, eta};
+    const std::array<double, 2> phi = test ? test->at(xi) : N;  // the rows' test functions
+    for (int k = 0; k < 2; ++k)
+      for (int l = 0; l < 2; ++l) D[k][l] += phi[k] * N[l] * w, M[k][l] += phi[k] * NM[l] * w;
+  });
 }
 
 }  // namespace rpfem

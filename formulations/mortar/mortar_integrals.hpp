@@ -46,25 +46,50 @@ std::optional<double> project_onto_master(const Vec2& xA, const Vec2& xB, const 
 std::optional<MortarPiece> mortar_piece(const Vec2& xa, const Vec2& xb, const Vec2& na, const Vec2& nb,
                                         const Vec2& xA, const Vec2& xB);
 
+// The part of piece p where a quantity linear along it, f0 at xi0 and f1
+// at xi1, lies in [lo, hi]; nothing if that part has no length.
+std::optional<MortarPiece> clip_piece(const MortarPiece& p, double f0, double f1, double lo, double hi);
+
+// The part of piece p (of slave edge a-b facing master edge A-B) whose
+// points lie in the master edge's normal slab, where their projection along
+// the master's normal falls on the edge. Beyond a master corner the slave
+// points between the two edges' normals (the corner's shadow) have the
+// corner as their nearest master point; along their own normals they meet
+// the next edge at a grazing angle, far off (a punch's side over the block
+// beside it: gaps of up to a millimetre next to a corner pressing the
+// block). Where the master is smooth the slab and the piece coincide to
+// the angle between the surfaces times the gap.
+std::optional<MortarPiece> clip_to_slab(const MortarPiece& p, const Vec2& xa, const Vec2& xb, const Vec2& xA,
+                                        const Vec2& xB);
+
 using Mat22 = std::array<std::array<double, 2>, 2>;
 
-// The dual basis of a slave edge (Wohlmuth 2000; Popp, Gee and Wall 2009,
-// eq. 21-23), biorthogonal on the part of the edge the master covers (the
-// "consistent" dual basis of Cichosz and Bischoff 2011 and Popp, Wohlmuth,
-// Gee and Wall 2012, sec. 3: with the whole edge's basis a partly covered
-// edge's rows get weights of either sign): Phi_k = sum_l A_kl N_l with
-// int_c Phi_k N_l w = delta_kl int_c N_k w, A = D_c M_c^-1, from Mc = int_c N_k
-// N_l w (the standard D of the edge's pieces, integrate_piece) and D_c its
-// row sums. A whole edge in plane strain: Phi_a = 2 N_a - N_b. The identity
-// (the standard basis) where Mc is near singular: a sliver of coverage, or
-// an edge on the axis of symmetry.
+// The rows' test functions on one slave edge, Theta_k = C_k0 L_0 + C_k1 L_1
+// with L_0, L_1 the linear functions of the interval [lo, hi] of the edge
+// (in xi; L_0 = 1 at lo, L_1 = 1 at hi). C = I on [0, 1] is the standard
+// basis N_k.
+struct TestBasis {
+  Mat22 C{{{1, 0}, {0, 1}}};
+  double lo = 0, hi = 1;
+  std::array<double, 2> at(double xi) const;
+};
+
+// The dual basis (Wohlmuth 2000; Popp, Gee and Wall 2009, eq. 21-23) of
+// the linear functions L_k of an interval with mass matrix
+// Mc = int L_k L_l w: Theta_k = sum_l C_kl L_l with int Theta_k L_l w =
+// delta_kl int L_k w, C = diag(D_c) Mc^-1, D_c the row sums of Mc. The
+// whole edge in plane strain: Theta_a = 2 N_a - N_b. The identity where Mc
+// is singular to round-off.
 Mat22 dual_coefficients(const Mat22& Mc);
 
+// Adds a piece's int L_k L_l w to ML, L the linear functions of [lo, hi].
+void add_interval_mass(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, double lo, double hi,
+                       Mat22& ML);
+
 // Adds a piece's integrals to D (2 x 2, slave a, b) and M (2 x 2: rows a, b;
-// columns A, B). With `dual`, the rows' test functions are the dual basis
-// Phi_k (dual_coefficients) instead of N_k: D_kl = int Phi_k N_l w,
-// M_kL = int Phi_k N_L w.
+// columns A, B). With `test`, the rows' test functions are Theta_k instead
+// of N_k: D_kl = int Theta_k N_l w, M_kL = int Theta_k N_L w.
 void integrate_piece(const Vec2& xa, const Vec2& xb, Geometry g, const MortarPiece& p, Mat22& D, Mat22& M,
-                     const Mat22* dual = nullptr);
+                     const TestBasis* test = nullptr);
 
 }  // namespace rpfem

@@ -109,7 +109,10 @@ TEST(MortarIntegrals, AxisymmetricWeightExactlyIntegrated) {
 }
 
 TEST(Mortar, RowsOfThePatchTestAreConsistent) {
-  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml", {"contact.discretization=mortar"});
+  for (const std::string weights : {"dual", "consistent"}) {
+  SCOPED_TRACE(weights);
+  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml",
+                {"contact.discretization=mortar", "contact.slave_weights=" + weights});
   const Scene scene = read_scene(file);
   const auto contact = make_contact(file, scene);
   const auto& model = dynamic_cast<const ContactModel&>(*contact);
@@ -131,21 +134,46 @@ TEST(Mortar, RowsOfThePatchTestAreConsistent) {
     EXPECT_NEAR(r.kin.gap0, 0, 1e-14);
     EXPECT_NEAR(gap_rate(r.kin, rigid), 0, 1e-13);
     EXPECT_NEAR(slip_rate(r.kin, rigid), 0, 1e-13);
-    EXPECT_GT(r.kin.k, 3);  // the slave node, a neighbour, and master nodes
+    // The slave node, under consistent weights a neighbour, and master nodes.
+    EXPECT_GE(r.kin.k, weights == "dual" ? 3 : 4);
     W += r.weight;
   }
   EXPECT_NEAR(W, kPi * 100, 1e-9);  // the interface's area, pi R^2
+  }
 }
 
 TEST(Mortar, ARowTouchesWhereItsSurfacesMeet) {
   // The upper block's bottom tilted to rise 0.5 mm over 10 (a cone on a
-  // flat, as Test II's punch): the surfaces meet at the axis only. The axis
-  // row's weighted gap is open, but it touches (touch_gap 0) and so takes
-  // part in an instantaneous solve; mortar rows engage gradually, so
-  // landing control leaves them alone.
-  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml",
-                {"contact.discretization=mortar", "bodies.upper.mesh.shape=quadrilateral",
-                 "bodies.upper.mesh.corners=[0.0, 5.0, 10.0, 5.5, 10.0, 10.0, 0.0, 10.0]"});
+  // flat, as Test II's punch): the surfaces meet at the axis only. Under
+  // consistent weights the axis row's weighted gap is open, but it touches
+  // (touch_gap 0) and so takes part in an instantaneous solve; such rows
+  // engage gradually, so landing control leaves them alone. A dual row
+  // reads the axis node's own gap, 0, and lands as a node does.
+  const std::vector<std::string> tilted{"contact.discretization=mortar", "bodies.upper.mesh.shape=quadrilateral",
+                                        "bodies.upper.mesh.corners=[0.0, 5.0, 10.0, 5.5, 10.0, 10.0, 0.0, 10.0]"};
+  {
+    auto set = tilted;
+    set.push_back("contact.slave_weights=dual");
+    CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml", set);
+    const Scene scene = read_scene(file);
+    const auto contact = make_contact(file, scene);
+    std::vector<double> flow;
+    StepView v = unit::initial_view(scene, flow);
+    contact->begin_step(v);
+    int axis_rows = 0;
+    for (const ContactRow& r : dynamic_cast<const ContactModel&>(*contact).rows()) {
+      EXPECT_TRUE(r.lands);
+      EXPECT_GE(r.kin.gap0, -1e-14);
+      if (scene.mesh.x[r.key](0) == 0) {
+        EXPECT_NEAR(r.kin.gap0, 0, 1e-14);
+        ++axis_rows;
+      }
+    }
+    EXPECT_EQ(axis_rows, 1);
+  }
+  auto set = tilted;
+  set.push_back("contact.slave_weights=consistent");
+  CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml", set);
   const Scene scene = read_scene(file);
   const auto contact = make_contact(file, scene);
   const auto& model = dynamic_cast<const ContactModel&>(*contact);
@@ -271,9 +299,14 @@ TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
   // and an open gap: the coefficients' changes cancel (sum_k D_jk =
   // sum_L M_jL = W_j at every configuration) and n turns about itself.
   // Checked against a central difference of the gaps of rows built anew
-  // at x -+ eps v, for the patch test's interface opened by 0.1 mm.
+  // at x -+ eps v, for the patch test's interface opened by 0.1 mm
+  // (consistent weights) and by 0.05 mm (dual weights, within their reach
+  // of 0.1 of the edge length).
+  for (const auto& [weights, y0] : {std::pair{"consistent", "5.1"}, std::pair{"dual", "5.05"}}) {
+  SCOPED_TRACE(weights);
   CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml",
-                {"contact.discretization=mortar", "bodies.upper.mesh.y0=5.1"});
+                {"contact.discretization=mortar", std::string("bodies.upper.mesh.y0=") + y0,
+                 std::string("contact.slave_weights=") + weights});
   const Scene scene = read_scene(file);
   std::vector<Vec2> v(scene.mesh.x.size());
   for (std::size_t i = 0; i < v.size(); ++i) {
@@ -302,7 +335,7 @@ TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
   for (std::size_t j = 0; j < r0.size(); ++j) {
     ASSERT_EQ(rp[j].key, r0[j].key);
     ASSERT_EQ(rm[j].key, r0[j].key);
-    EXPECT_NEAR(r0[j].kin.gap0, 0.1, 1e-14);
+    EXPECT_NEAR(r0[j].kin.gap0, std::stod(y0) - 5, 1e-14);
     const double fd = (rp[j].kin.gap0 - rm[j].kin.gap0) / (2 * eps);
     // 2e-8: the outer row's covered part ends where the master does at
     // eps = 0, so its gap's second derivative jumps there and the central
@@ -311,56 +344,117 @@ TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
     EXPECT_NEAR(gap_rate(r0[j].kin, v), fd, 2e-8)
         << "row of node " << r0[j].key << " at " << scene.mesh.x[r0[j].key].transpose();
   }
+  }
 }
 
-// The dual basis (contact.slave_weights = "dual"), biorthogonal on the part
-// of a slave edge the master covers: by hand for a whole edge (plane strain
-// Phi_a = 2 N_a - N_b; axisymmetric, the edge from the axis r = 0 to r = 1:
-// int N_a N_a r = int N_a N_b r = 1/12, int N_b N_b r = 1/4, so Phi_a = 3 N_a
-// - N_b and Phi_b = 2 N_b - 2 N_a, times 2 pi), and for a half-covered edge
-// the D of its piece diagonal with the standard D's row sums; a sliver of
-// coverage keeps the standard basis.
-TEST(MortarIntegrals, DualBasisIsBiorthogonalOnTheCoveredPart) {
+// The dual basis (contact.slave_weights = "dual"), biorthogonal to the
+// linear functions of the covered interval: by hand for a whole edge (plane
+// strain Theta_a = 2 N_a - N_b; axisymmetric, the edge from the axis r = 0
+// to r = 1: int N_a N_a r = int N_a N_b r = 1/12, int N_b N_b r = 1/4, so
+// Theta_a = 3 N_a - N_b and Theta_b = 2 N_b - 2 N_a, times 2 pi). For a
+// partly covered edge each row measures the gap at its end of the covered
+// interval, so D_kl = (int L_k w) N_l(end k) and the coefficients stay those
+// of a whole edge however little is covered (a sliver included).
+TEST(MortarIntegrals, DualBasisIsBiorthogonalOnTheCoveredInterval) {
   const Vec2 up(0, 1), xa(0, 0), xb(1, 0);
+  const auto basis = [&](const MortarPiece& p, Geometry g) {
+    TestBasis t;
+    t.lo = p.xi0, t.hi = p.xi1;
+    Mat2 ML{};
+    add_interval_mass(xa, xb, g, p, t.lo, t.hi, ML);
+    t.C = dual_coefficients(ML);
+    return std::pair(t, ML);
+  };
   const auto whole = mortar_piece(xa, xb, up, up, Vec2(-0.5, 0.2), Vec2(1.5, 0.2));
   ASSERT_TRUE(whole);
-  const auto coefficients = [&](const MortarPiece& p, Geometry g) {
-    Mat2 Mc{}, unused{};
-    integrate_piece(xa, xb, g, p, Mc, unused);
-    return std::pair(dual_coefficients(Mc), Mc);
-  };
-  const auto [plane, Mp] = coefficients(*whole, Geometry::PlaneStrain);
-  EXPECT_NEAR(plane[0][0], 2, 1e-14);
-  EXPECT_NEAR(plane[0][1], -1, 1e-14);
-  EXPECT_NEAR(plane[1][0], -1, 1e-14);
-  EXPECT_NEAR(plane[1][1], 2, 1e-14);
-  const auto [axi, Ma] = coefficients(*whole, Geometry::Axisymmetric);
-  EXPECT_NEAR(axi[0][0], 3, 1e-13);
-  EXPECT_NEAR(axi[0][1], -1, 1e-13);
-  EXPECT_NEAR(axi[1][0], -2, 1e-13);
-  EXPECT_NEAR(axi[1][1], 2, 1e-13);
-  // Half covered (master [0.5, 1.5] over xi in [0.5, 1]), either geometry.
-  const auto half = mortar_piece(xa, xb, up, up, Vec2(0.5, 0.2), Vec2(1.5, 0.2));
-  ASSERT_TRUE(half);
-  EXPECT_NEAR(half->xi0, 0.5, 1e-15);
-  for (const Geometry g : {Geometry::PlaneStrain, Geometry::Axisymmetric}) {
-    const auto [A, Mc] = coefficients(*half, g);
-    Mat2 D{}, M{};
-    integrate_piece(xa, xb, g, *half, D, M, &A);
-    for (int k = 0; k < 2; ++k) {
-      const double sum = Mc[k][0] + Mc[k][1];
-      EXPECT_GT(sum, 0);
-      EXPECT_NEAR(D[k][k], sum, 1e-14) << k;
-      EXPECT_NEAR(D[k][1 - k], 0.0, 1e-14) << k;
-      EXPECT_NEAR(M[k][0] + M[k][1], sum, 1e-14) << k;  // the rows of D and M sum alike: the patch test
+  const auto [plane, Mp] = basis(*whole, Geometry::PlaneStrain);
+  EXPECT_NEAR(plane.C[0][0], 2, 1e-14);
+  EXPECT_NEAR(plane.C[0][1], -1, 1e-14);
+  EXPECT_NEAR(plane.C[1][0], -1, 1e-14);
+  EXPECT_NEAR(plane.C[1][1], 2, 1e-14);
+  const auto [axi, Ma] = basis(*whole, Geometry::Axisymmetric);
+  EXPECT_NEAR(axi.C[0][0], 3, 1e-13);
+  EXPECT_NEAR(axi.C[0][1], -1, 1e-13);
+  EXPECT_NEAR(axi.C[1][0], -2, 1e-13);
+  EXPECT_NEAR(axi.C[1][1], 2, 1e-13);
+  // Covered over xi in [0.5, 1] (a master [0.5, 1.5]) and over a sliver
+  // [0.999, 1], either geometry.
+  for (const double start : {0.5, 0.999}) {
+    const auto part = mortar_piece(xa, xb, up, up, Vec2(start, 0.2), Vec2(1.5, 0.2));
+    ASSERT_TRUE(part);
+    EXPECT_NEAR(part->xi0, start, 1e-15);
+    for (const Geometry g : {Geometry::PlaneStrain, Geometry::Axisymmetric}) {
+      const auto [t, ML] = basis(*part, g);
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l) EXPECT_LT(std::abs(t.C[k][l]), 3.5) << start << " " << k << l;
+      Mat2 D{}, M{};
+      integrate_piece(xa, xb, g, *part, D, M, &t);
+      const double ends[2] = {start, 1.0};
+      for (int k = 0; k < 2; ++k) {
+        const double sum = ML[k][0] + ML[k][1];  // int L_k w
+        EXPECT_GT(sum, 0);
+        EXPECT_NEAR(D[k][0], sum * (1 - ends[k]), 1e-14 * (1 + 1 / sum) * sum) << start << " " << k;
+        EXPECT_NEAR(D[k][1], sum * ends[k], 1e-14 * (1 + 1 / sum) * sum) << start << " " << k;
+        EXPECT_NEAR(M[k][0] + M[k][1], sum, 1e-13 * sum) << k;  // the rows of D and M sum alike: the patch test
+      }
     }
   }
-  // A sliver (1e-3 of the edge): the standard basis.
-  const auto sliver = mortar_piece(xa, xb, up, up, Vec2(1 - 1e-3, 0.2), Vec2(2, 0.2));
+}
+
+TEST(MortarIntegrals, ClipPieceKeepsWhereALinearQuantityIsInRange) {
+  const MortarPiece p{0.2, 0.8, 0.1, 0.9};
+  // f from 0 to 3 along the piece, kept in [-1, 1]: the first third.
+  const auto a = clip_piece(p, 0, 3, -1, 1);
+  ASSERT_TRUE(a);
+  EXPECT_NEAR(a->xi0, 0.2, 1e-15);
+  EXPECT_NEAR(a->xi1, 0.4, 1e-15);
+  EXPECT_NEAR(a->eta0, 0.1, 1e-15);
+  EXPECT_NEAR(a->eta1, 0.1 + 0.8 / 3, 1e-15);
+  // Falling from 2 to -2: the middle half.
+  const auto b = clip_piece(p, 2, -2, -1, 1);
+  ASSERT_TRUE(b);
+  EXPECT_NEAR(b->xi0, 0.35, 1e-15);
+  EXPECT_NEAR(b->xi1, 0.65, 1e-15);
+  EXPECT_NEAR(b->eta0, 0.3, 1e-15);
+  EXPECT_NEAR(b->eta1, 0.7, 1e-15);
+  // Constant inside: the whole piece; outside: nothing.
+  const auto c = clip_piece(p, 0.5, 0.5, -1, 1);
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->xi0, 0.2);
+  EXPECT_EQ(c->xi1, 0.8);
+  EXPECT_FALSE(clip_piece(p, 2, 3, -1, 1));
+  EXPECT_FALSE(clip_piece(p, 1.5, 1.5, -1, 1));
+}
+
+TEST(MortarIntegrals, ACornersShadowIsNoPiece) {
+  // role_switch_flat_punch's corner (r = 4.75, the punch face at z = 5)
+  // pressing the block's edge from r = 4.5 to 5.0, which rises beyond the
+  // corner and whose end normal tilts toward the punch. The slave normals
+  // near the corner sweep over the punch's side (walked upwards, outward
+  // +r): a sliver of the edge, with gaps far larger than the distance to
+  // the corner. It lies below the side, outside the side's normal slab:
+  // nothing is left. The bottom face's piece keeps its extent up to the
+  // corner, and the side keeps a block edge risen beside it.
+  const Vec2 xa(4.5, 4.99), xb(5.0, 4.9975), na = Vec2(-0.01, 1).normalized(), nb = Vec2(-0.05, 1).normalized();
+  const Vec2 corner(4.75, 5.0), top(4.75, 5.5), face(4.22, 5.0);
+  const auto sliver = mortar_piece(xa, xb, na, nb, corner, top);
   ASSERT_TRUE(sliver);
-  const auto [S, Ms] = coefficients(*sliver, Geometry::PlaneStrain);
-  EXPECT_EQ(S[0][0], 1.0);
-  EXPECT_EQ(S[0][1], 0.0);
-  EXPECT_EQ(S[1][0], 0.0);
-  EXPECT_EQ(S[1][1], 1.0);
+  EXPECT_GT(sliver->xi1 - sliver->xi0, 1e-3);
+  EXPECT_FALSE(clip_to_slab(*sliver, xa, xb, corner, top));
+  const auto bottom = mortar_piece(xa, xb, na, nb, face, corner);
+  ASSERT_TRUE(bottom);
+  const auto kept = clip_to_slab(*bottom, xa, xb, face, corner);
+  ASSERT_TRUE(kept);
+  EXPECT_NEAR(kept->xi0, bottom->xi0, 1e-15);
+  // Along the slave's tilted normals the corner projects 3.7e-4 beyond its
+  // own r (the tilt times the gap); the slab ends at r = 4.75.
+  EXPECT_NEAR(bottom->xi1, 0.5, 4e-4);
+  EXPECT_NEAR(kept->xi1, 0.5, 1e-12);
+  const Vec2 ra(4.8, 5.1), rb(5.0, 5.2), n = outward(rb - ra);
+  const auto beside = mortar_piece(ra, rb, n, n, corner, top);
+  ASSERT_TRUE(beside);
+  const auto risen = clip_to_slab(*beside, ra, rb, corner, top);
+  ASSERT_TRUE(risen);
+  EXPECT_NEAR(risen->xi0, beside->xi0, 1e-15);
+  EXPECT_NEAR(risen->xi1, beside->xi1, 1e-15);
 }
