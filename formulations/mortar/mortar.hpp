@@ -9,7 +9,7 @@
 //   node's test function),
 // with the integrals D, M of formulations/mortar/mortar_integrals.hpp over
 // the pieces of the slave edges that master edges face, n_j the master's
-// outward normal averaged with N_j over the pieces, and the
+// outward normal averaged with Theta_j over the pieces, and the
 // gap g_j = n_j . (sum_k D_jk x_k - sum_L M_jL x_L) / W_j likewise. The row's
 // weight (its share of the contact surface) is W_j.
 // Sums: sum_k D_jk = sum_L M_jL = W_j, so a rigid motion gives no gap
@@ -46,8 +46,7 @@
 //    2e-8.
 // "consistent": standard shape functions. Every coefficient lies in
 // [-1, 1] and W_j > 0 however little of an edge a master faces.
-// "lumped": D_jk
-// replaced by its row sum W_j on the diagonal: the slave node's own gap
+// "lumped": D_jk replaced by its row sum W_j on the diagonal: the slave node's own gap
 // against the master surface averaged with N_j. The sums, and so the patch
 // test, hold alike; the difference is where a contact zone ends. A
 // consistent row's gap averages the slave's nodal gaps over its support,
