@@ -20,6 +20,7 @@ Mortar::Mortar(const Scene& scene, CaseSection settings) : scene_(scene), surfac
   // pair's body, its other (`with`) body, or both in turn (two half
   // passes).
   const std::string slave = settings.text("slave", "finer", {"finer", "body", "with", "both"});
+  finer_ = slave == "finer";
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i)
     slave_.push_back(slave == "finer" ? surfaces_.finer(i) : slave == "body" ? 0 : slave == "with" ? 1 : kBoth);
   // Against rigid dies: node-to-die rows (the die's surface is exact) or
@@ -39,6 +40,18 @@ void Mortar::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<s
     } else {
       add_rows(v, i, slave_[i], out);
     }
+  }
+}
+
+void Mortar::take_over(const ContactZones& zones) {
+  if (!finer_) return;
+  for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) {
+    const auto it = zones.slave_side.find(surfaces_.interfaces()[i].name);
+    if (surfaces_.interfaces()[i].die >= 0 || it == zones.slave_side.end()) continue;
+    const int s = it->second;
+    const double h = mean_edge_length(scene_.mesh.x, surfaces_.side(i, s));
+    const double other = mean_edge_length(scene_.mesh.x, surfaces_.side(i, 1 - s));
+    if (h <= kKeepSlave * other) slave_[i] = s;
   }
 }
 

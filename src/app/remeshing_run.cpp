@@ -44,6 +44,7 @@ RunOutcome run_with_remeshing(PreparedCase& c, const std::string& formulation, c
   std::vector<std::unique_ptr<Scene>> scenes;
   std::vector<std::unique_ptr<ContactFormulation>> contacts;
   const Scene* current = c.scene.get();
+  const ContactFormulation* contact = c.contact.get();
   for (int remeshes = 0; !out.finished && !out.remesh.empty(); ++remeshes) {
     if (remeshes == current->remesh.max_remeshes) {
       out.reason = "stopped for a remesh (" + out.remesh + ") after remesh.max_remeshes = " +
@@ -59,9 +60,12 @@ RunOutcome run_with_remeshing(PreparedCase& c, const std::string& formulation, c
       break;
     }
     obs.remeshed(re, out.remesh, remesh_change(*current, out.last, re));
+    const ContactZones zones = contact->contact_zones(out.last.x);
     scenes.push_back(std::make_unique<Scene>(std::move(re.scene)));
     current = scenes.back().get();
     contacts.push_back(make_contact(*c.file, *current, {formulation, discretization}));
+    contacts.back()->take_over(zones);
+    contact = contacts.back().get();
     add(out, run_scene(*current, *contacts.back(), obs, &re.state));
   }
   return out;

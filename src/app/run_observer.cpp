@@ -218,7 +218,10 @@ void RunObserver::on_resumed(const StepRecord& r) {
   char text[160];
   std::snprintf(text, sizeof text, "remesh load jump %.6g (same configuration: %.6g kN on the new mesh, %.6g on the old)",
                 change, r.loads[k].norm() / 1e3, before.norm() / 1e3);
-  std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << "," << text << "\n";
+  std::ofstream ev(events_path_, std::ios::app);
+  ev << r.step << "," << r.time << "," << text << "\n";
+  // What the new mesh's first solve met (contact taken over, touches).
+  for (const auto& e : r.events) ev << r.step << "," << r.time << "," << e << "\n";
 }
 
 void RunObserver::on_retry(int step, double dt, const std::string& why) {

@@ -6,6 +6,7 @@
 // (contact forces from the rows' results, die loads, contact areas and
 // pressures, penetration, the fields of result.h5).
 #pragma once
+#include <map>
 #include <memory>
 #include <set>
 #include <utility>
@@ -44,7 +45,12 @@ class ContactModel final : public ContactFormulation {
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
   std::optional<double> limit_dt(const StepView& v, const std::vector<Vec2>& vel) const override;
   double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
-  void end_step(const StepView& v, const std::vector<Vec2>& vel) override { enf_->end_step(v, vel); }
+  void end_step(const StepView& v, const std::vector<Vec2>& vel) override;
+  ContactZones contact_zones(const std::vector<Vec2>& x) const override;
+  void take_over(const ContactZones& zones) override {
+    taken_ = zones;
+    disc_->take_over(zones);
+  }
   ContactRecord record(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) const override;
 
   const std::vector<ContactRow>& rows() const { return rows_; }
@@ -56,6 +62,9 @@ class ContactModel final : public ContactFormulation {
   // discretization's and the enforcement's.
   void columns(const StepView* v, std::vector<NamedValue>& out) const;
   double neutral_point(const StepView& v, int die) const;
+  // Rows between bodies in the zones taken over: their gaps now become
+  // their zero (offsets_), once, at the first step after a remesh.
+  void take_over_rows(const StepView& v);
 
   const Scene& scene_;
   std::unique_ptr<ContactDiscretization> disc_;
@@ -72,6 +81,10 @@ class ContactModel final : public ContactFormulation {
   double sym_tol_ = 0;
   double max_drift_ = 0;       // mm, the last step's largest drift corrected (place_on_surfaces)
   std::vector<Vec2> solved_;   // the last settled solve's velocities
+  ContactZones taken_;         // taken over from before a remesh, until the first step
+  // mm, per row (iface, key) taken over at a remesh and in contact since:
+  // its gap then, held as its zero (ContactRow::gap_offset).
+  std::map<std::pair<int, Index>, double> offsets_;
 };
 
 }  // namespace rpfem

@@ -60,6 +60,12 @@ struct ContactRow {
   // mortar row: its weighted gap closes as the contact zone grows over its
   // support, and the load with it).
   bool lands = true;
+  // mm: the gap the row had when it was taken over at a remesh (contact
+  // between bodies re-established on the new mesh, ContactModel): kin.gap0,
+  // kin.gap_from and touch_gap are measured from it, so the row holds the
+  // interface as it stood. Its true gap is kin.gap0 + gap_offset.
+  double gap_offset = 0;
+  double true_gap() const { return kin.gap0 + gap_offset; }
 };
 
 // Contact area and sticking bound of a row, given which rows are in

@@ -26,6 +26,10 @@ class ContactDiscretization {
   // Whether every row against a die is one node's (an enforcement that
   // holds nodes on dies by elimination needs it).
   virtual bool node_rows_on_dies() const { return true; }
+  // After a remesh, before the first rows: the contact the last mesh's
+  // treatment left (model/contact_formulation.hpp). A discretization whose
+  // roles are chosen once keeps them.
+  virtual void take_over(const ContactZones&) {}
   // Its own per-step scalars (history.csv): names, then values in order;
   // v: the configuration recorded (nullptr: the names only).
   virtual void columns(const StepView* v, std::vector<NamedValue>& out) const {}

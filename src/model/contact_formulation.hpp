@@ -9,6 +9,7 @@
 // never names a concrete treatment: formulations/factory.hpp builds one
 // from an enforcement and a discretization (src/contact/contact_model.hpp).
 #pragma once
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -132,6 +133,17 @@ struct ContactInfo {
   std::vector<NamedValue> derived;          // values derived from the scene (summary.json)
 };
 
+// Where bodies touch one another, handed from a treatment to the one that
+// takes over after a remesh: per interface (by name), the segments of the
+// surface in contact at the remesh's configuration (a lone node in contact:
+// a segment of zero length). Positions, not nodes: the meshes differ.
+struct ContactZones {
+  std::map<std::string, std::vector<std::array<Vec2, 2>>> segments;
+  // Per interface whose rows in contact were all one side's nodes: that
+  // side (0: the pair's body, 1: its `with` body), the slave of one pass.
+  std::map<std::string, int> slave_side;
+};
+
 class ContactFormulation {
  public:
   virtual ~ContactFormulation() = default;
@@ -170,6 +182,13 @@ class ContactFormulation {
   virtual double place_on_surfaces(const StepView&, std::vector<Vec2>& x) { return 0; }
   // End of an accepted step: contact state carried to the next.
   virtual void end_step(const StepView&, const std::vector<Vec2>& v) {}
+  // At a remesh, on the old mesh's treatment: where bodies touch at x (the
+  // last settled solve's contact state).
+  virtual ContactZones contact_zones(const std::vector<Vec2>& x) const { return {}; }
+  // On the new mesh's treatment, before its first step: the contact it
+  // takes over (between bodies; nodes on dies are placed on them by the
+  // remesh itself).
+  virtual void take_over(const ContactZones&) {}
   // The last converged solve's forces, loads, fields and columns.
   virtual ContactRecord record(const StepView&, const std::vector<Vec2>& v, const std::vector<Vec2>& F) const {
     ContactRecord r;
