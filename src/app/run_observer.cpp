@@ -116,17 +116,22 @@ void RunObserver::on_step(const StepRecord& r) {
   row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());
   for (double v : evaluate_monitors(monitors_, r.x)) row.push_back(v);
   history_->write_row(row);
-  if (jump_pending_ && !r.loads.empty() && !last_.loads.empty()) {
-    // The first step after a remesh against the line through the two
-    // steps before it (the last one alone if there is one): besides the
-    // remesh's own jump, a contact event or a short step in that window
-    // moves it.
-    const double s0 = before_last_.stroke, s1 = last_.stroke;
-    const std::size_t k = press_load();
-    const Vec2 F1 = last_.loads[k];
-    const Vec2 F0 = before_last_.loads.size() > k ? before_last_.loads[k] : F1;
-    const Vec2 line = s1 > s0 ? F1 + (F1 - F0) * ((r.stroke - s1) / (s1 - s0)) : F1;
-    const double jump = line.norm() > 0 ? (r.loads[k] - line).norm() / line.norm() : 0.0;
+  const std::size_t k = press_load();
+  if (jump_pending_ && k < r.loads.size() && !recent_.empty()) {
+    // The first step after a remesh against the trend before it: the line
+    // from the remesh's step along the last step's slope dF/ds, or, where
+    // a node landed in that step, along the latest of the two steps before
+    // without a landing (a node folding onto a die: the ring's load rose
+    // 4.9 % in the step of a remesh, and that slope is no trend).
+    double m = 0;
+    for (std::size_t i = recent_.size(); i-- > 1;) {
+      const Recent &p = recent_[i - 1], &q = recent_[i];
+      if (!(q.stroke > p.stroke)) continue;
+      m = (q.load - p.load) / (q.stroke - p.stroke);
+      if (!q.landed) break;
+    }
+    const double line = recent_.back().load + m * (r.stroke - recent_.back().stroke);
+    const double jump = line > 0 ? std::abs(r.loads[k].norm() - line) / line : 0.0;
     auto* entry = remeshes_.back().as_table();
     entry->insert_or_assign("load_jump_trend", jump);
     summary_.insert_or_assign("remeshes", remeshes_);
@@ -142,7 +147,17 @@ void RunObserver::on_step(const StepRecord& r) {
     writer_->write_step(fields(r));
     last_field_step_ = r.step;
   }
-  before_last_ = std::move(last_);
+  if (k < r.loads.size()) {
+    // A landing: a touch in the step's events, or a step that landing
+    // control ended short of the increment (not a halving: those record
+    // their cuts); every enforcement's landings shorten steps, not all
+    // name their touches.
+    bool landed = !recent_.empty() && r.cuts == 0 &&
+                  r.stroke - recent_.back().stroke < 0.99 * scene_.stepping.stroke_increment;
+    for (const auto& e : r.events) landed = landed || e.rfind("touch ", 0) == 0;
+    recent_.push_back({r.stroke, r.loads[k].norm(), landed});
+    if (recent_.size() > 4) recent_.pop_front();
+  }
   last_ = r;
   last_step_ = r.step;
   if (!quiet_ && (r.step % std::max(1, expected_steps_ / 20) == 0 || r.step == expected_steps_)) {

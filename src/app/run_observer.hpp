@@ -2,6 +2,7 @@
 // result.xdmf, history.csv, summary.json) and prints progress.
 #pragma once
 #include <chrono>
+#include <deque>
 #include <memory>
 #include <string>
 
@@ -65,7 +66,14 @@ class RunObserver final : public StepObserver {
   std::chrono::steady_clock::time_point t0_;
   double initial_volume_ = 0, max_volume_change_ = 0, min_quality_ = 1;
   int last_field_step_ = -1, expected_steps_ = 1, last_step_ = 0;
-  StepRecord last_, before_last_;
+  StepRecord last_;
+  // The last four recorded steps, for the trend a remesh's next step is
+  // measured against.
+  struct Recent {
+    double stroke = 0, load = 0;  // mm, |press load| N
+    bool landed = false;          // a node touched in that step
+  };
+  std::deque<Recent> recent_;
   toml::array remeshes_;
   bool jump_pending_ = false;
   Index mesh_nodes_ = 0, mesh_elements_ = 0;
