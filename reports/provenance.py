@@ -1,9 +1,10 @@
 """The report's provenance block (reports/make_report.py): which rpfem made
 the runs (the version in each run's summary.json; the executable and its
 compiler from suite.json's "program", written by newer suites), when
-(suite.json's time), on what machine, and the BLAS library the executable
-loads (what ldd resolves libblas.so.3 to; "unknown" without the
-executable)."""
+(suite.json's time), on what machine, and the BLAS library the runs ran
+on (each run's summary.json "blas", from the process's own mappings: an
+LD_LIBRARY_PATH that ldd of the executable does not see is in it; for
+older suites what ldd resolves libblas.so.3 to)."""
 import datetime
 import os
 import platform
@@ -28,6 +29,12 @@ def blas_of(program):
     return "none linked directly (ldd lists no libblas)"
 
 
+def blas_of_runs(runs):
+    """The BLAS libraries the runs recorded (summary.json "blas"), joined;
+    "" where none did."""
+    return ", ".join(sorted({r["summary"].get("blas", "") for r in runs} - {"", "unknown"}))
+
+
 def cpu():
     try:
         with open("/proc/cpuinfo") as f:
@@ -46,7 +53,7 @@ def provenance_rows(out, suite, runs):
         ("rpfem version (runs' summary.json)", ", ".join(versions) or "unknown"),
         ("rpfem executable", program.get("path", "unknown (not recorded in suite.json)")),
         ("compiler", program.get("compiler", "unknown (not recorded in suite.json)")),
-        ("BLAS loaded", blas_of(program.get("path"))),
+        ("BLAS loaded", blas_of_runs(runs) or blas_of(program.get("path"))),
         ("suite.json written", made.strftime("%Y-%m-%d %H:%M")),
         ("report made", datetime.datetime.now().strftime("%Y-%m-%d %H:%M")),
         ("machine", "%s: %s, %s" % (socket.gethostname(), platform.platform(), cpu())),

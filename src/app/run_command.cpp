@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "app/case_setup.hpp"
+#include "app/linked_blas.hpp"
 #include "app/output_folder.hpp"
 #include "app/remeshing_run.hpp"
 #include "app/run_observer.hpp"
@@ -40,6 +41,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
                       {"enforcement", info.enforcement},
                       {"discretization", info.discretization},
                       {"version", kVersion},
+                      {"blas", linked_blas()},
                       {"parameters", file.used()}};
   toml::array ov, user_set;
   for (const auto& o : overrides) ov.push_back(o);

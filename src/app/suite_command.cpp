@@ -13,6 +13,7 @@
 
 #include "app/case_folder.hpp"
 #include "app/data_dir.hpp"
+#include "app/linked_blas.hpp"
 #include "app/run_engine.hpp"
 #include "app/subprocess.hpp"
 #include "app/suite_studies.hpp"
@@ -129,7 +130,7 @@ void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs, const
   }
   std::ostringstream os;
   // The program that ran the suite, for the report's provenance: the
-  // executable (its BLAS is what ldd resolves), version and compiler.
+  // executable, version, compiler and the BLAS it runs on.
 #if defined(__clang__)
   const std::string compiler = std::string("clang ") + __clang_version__;
 #elif defined(__GNUC__)
@@ -137,7 +138,8 @@ void write_manifest(const SuiteOptions& opt, const std::vector<Job>& jobs, const
 #else
   const std::string compiler = "unknown";
 #endif
-  const toml::table program{{"path", self_executable()}, {"version", kVersion}, {"compiler", compiler}};
+  const toml::table program{
+      {"path", self_executable()}, {"version", kVersion}, {"compiler", compiler}, {"blas", linked_blas()}};
   os << toml::json_formatter{toml::table{{"program", program}, {"runs", runs}, {"studies", study_list}}} << "\n";
   write_text_atomically(opt.out_dir + "/suite.json", os.str());
 }

@@ -30,6 +30,11 @@ for blas in reference openblas; do
     --out "$tmp/$blas" --quiet > "$tmp/$blas.log" 2>&1
   rc=$?
   check "$blas: ipopt on Test II's die at mesh factor 0.5 finishes (exit $rc)" '[ $rc -eq 0 ]'
+  # summary.json names the BLAS the run was on (from the process's own
+  # mappings: ldd of the executable cannot tell).
+  recorded=$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["blas"])' "$tmp/$blas/summary.json")
+  want=$([ $blas = reference ] && echo "/usr/lib/$arch/blas/" || echo "$openblas/")
+  check "$blas: summary.json records $recorded" '[ "${recorded#$(readlink -f "$want")/}" != "$recorded" ]'
 done
 /usr/bin/python3 - "$tmp" <<'PY' > "$tmp/compare.log" 2>&1
 import json, sys

@@ -1,0 +1,25 @@
+#include "app/linked_blas.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+namespace rpfem {
+
+std::string linked_blas() {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line)) {
+    const auto slash = line.find('/');
+    if (slash == std::string::npos) continue;
+    const std::string path = line.substr(slash);
+    const std::string name = std::filesystem::path(path).filename().string();
+    if (name.rfind("lib", 0) != 0 || name.find("blas") == std::string::npos) continue;
+    std::error_code ec;
+    const auto real = std::filesystem::canonical(path, ec);
+    return ec ? path : real.string();
+  }
+  return "unknown";
+}
+
+}  // namespace rpfem

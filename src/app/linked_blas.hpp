@@ -1,0 +1,16 @@
+// Which BLAS this process runs on: the results of a sparse factorization
+// depend on its rounding (docs/notes.md: the ring's inner diameter at 60 %
+// moves by tenths of a point between Debian's reference BLAS and
+// OpenBLAS), and the library is chosen at load time (Debian's
+// alternatives, LD_LIBRARY_PATH), not at build time. Recorded with every
+// run's provenance.
+#pragma once
+#include <string>
+
+namespace rpfem {
+
+// The real path of the BLAS library mapped into this process
+// (/proc/self/maps: the first file named lib*blas*), or "unknown".
+std::string linked_blas();
+
+}  // namespace rpfem
