@@ -148,14 +148,7 @@ void RunObserver::on_step(const StepRecord& r) {
     last_field_step_ = r.step;
   }
   if (k < r.loads.size()) {
-    // A landing: a touch in the step's events, or a step that landing
-    // control ended short of the increment (not a halving: those record
-    // their cuts); every enforcement's landings shorten steps, not all
-    // name their touches.
-    bool landed = !recent_.empty() && r.cuts == 0 &&
-                  r.stroke - recent_.back().stroke < 0.99 * scene_.stepping.stroke_increment;
-    for (const auto& e : r.events) landed = landed || e.rfind("touch ", 0) == 0;
-    recent_.push_back({r.stroke, r.loads[k].norm(), landed});
+    recent_.push_back({r.stroke, r.loads[k].norm(), r.landing});
     if (recent_.size() > 4) recent_.pop_front();
   }
   last_ = r;

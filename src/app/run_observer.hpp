@@ -71,7 +71,7 @@ class RunObserver final : public StepObserver {
   // measured against.
   struct Recent {
     double stroke = 0, load = 0;  // mm, |press load| N
-    bool landed = false;          // a node touched in that step
+    bool landed = false;          // StepRecord::landing
   };
   std::deque<Recent> recent_;
   toml::array remeshes_;

@@ -117,8 +117,11 @@ void ContactModel::take_over_rows(const StepView& v) {
   // discretization's own error, not a misfit to correct), until it leaves
   // contact (end_step).
   const auto& ifaces = disc_->interfaces();
-  std::map<int, std::pair<double, double>> range;  // per interface: the gaps taken over
-  std::map<int, int> count;
+  struct Taken {
+    int rows = 0;
+    double lo = INFINITY, hi = -INFINITY;  // mm, the gaps taken over
+  };
+  std::map<int, Taken> taken;  // per interface
   for (const ContactRow& r : rows_) {
     const ContactInterface& f = ifaces[r.iface];
     const auto zone = taken_.segments.find(f.name);
@@ -130,14 +133,13 @@ void ContactModel::take_over_rows(const StepView& v) {
     for (const auto& s : zone->second) d = std::min(d, segment_distance(p, s[0], s[1]));
     if (!(d <= reach)) continue;
     offsets_[{r.iface, r.key}] = r.kin.gap0;
-    auto& g = range.try_emplace(r.iface, r.kin.gap0, r.kin.gap0).first->second;
-    g.first = std::min(g.first, r.kin.gap0), g.second = std::max(g.second, r.kin.gap0);
-    ++count[r.iface];
+    Taken& t = taken[r.iface];
+    ++t.rows, t.lo = std::min(t.lo, r.kin.gap0), t.hi = std::max(t.hi, r.kin.gap0);
   }
-  for (const auto& [i, n] : count)
-    events_.push_back("contact taken over on " + ifaces[i].name + ": " + std::to_string(n) +
-                      " rows start in contact, their gaps (" + std::to_string(range[i].first) + " to " +
-                      std::to_string(range[i].second) + " mm) held as their zero");
+  for (const auto& [i, t] : taken)
+    events_.push_back("contact taken over on " + ifaces[i].name + ": " + std::to_string(t.rows) +
+                      " rows start in contact, their gaps (" + std::to_string(t.lo) + " to " + std::to_string(t.hi) +
+                      " mm) held as their zero");
   taken_ = {};
 }
 

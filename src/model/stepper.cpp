@@ -124,7 +124,7 @@ class Runner {
   StepView view(const State& st, int step, double dt) const;
   // quality: the configuration's least scaled Jacobian.
   void record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality,
-              bool resumed = false);
+              bool resumed = false, bool landing = false);
   RunOutcome finish();
   const Die* find_die(const std::string& name) const {
     for (const Die& d : scene_.dies)
@@ -317,13 +317,14 @@ State Runner::advance(const State& st, const Solution& sol, double dt) const {
 }
 
 void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality,
-                    bool resumed) {
+                    bool resumed, bool landing) {
   StepRecord r;
   r.step = step;
   r.time = st.time;
   r.stroke = st.stroke;
   r.dt = dt;
   r.cuts = cuts;
+  r.landing = landing;
   r.newton_iterations = sol.iterations;
   r.contact_passes = sol.passes;
   r.solves = sol.solves;
@@ -517,7 +518,9 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
 bool Runner::take_step(State& st, Solution& sol, int step) {
   const double end = scene_.stepping.end_stroke;
   double dt = std::min(derived_.dt_nominal, (end - st.stroke) / derived_.reference_speed);
-  if (auto lim = contact_.limit_dt(view(st, step, dt), sol.v)) dt = std::min(dt, *lim);
+  const std::optional<double> lim = contact_.limit_dt(view(st, step, dt), sol.v);
+  const bool to_landing = lim && *lim < dt;
+  if (to_landing) dt = *lim;
   Attempt a;
   int cuts = 0;
   for (;; ++cuts) {
@@ -552,7 +555,8 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   out_.total_newton_iterations += sol.iterations;
   out_.total_cuts += cuts;
   out_.steps = step;
-  record(st, sol, step, dt, cuts, a.quality);
+  // A halved step ends short of the landing.
+  record(st, sol, step, dt, cuts, a.quality, false, to_landing && cuts == 0);
   last_dt_ = dt;
   // Remesh triggers (not at the end of the stroke).
   const RemeshSpec& rm = scene_.remesh;

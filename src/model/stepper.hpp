@@ -24,6 +24,7 @@ struct StepRecord {
   int step = 0;
   double time = 0, stroke = 0, dt = 0;  // s, mm, s (dt of the step that led here)
   int cuts = 0;                         // halvings needed to reach this step
+  bool landing = false;                 // landing control ended the step where a node lands
   int newton_iterations = 0;            // incl. contact re-solves
   int contact_passes = 0;               // solves of this configuration
   int solves = 0;                       // all solves of the step (midpoint: the half step's too)
