@@ -58,8 +58,16 @@ void IpoptEnforcement::begin_step(const StepView& v, const std::vector<ContactRo
     const auto it = last_force_.find({rows[i].iface, rows[i].key});
     if (it != last_force_.end()) force[i] = it->second;
   }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (bound_of_[i] < 0) continue;
+    const auto it = latest_force_.find({rows[i].iface, rows[i].key});
+    bound_rows_[bound_of_[i]].start_force = it != latest_force_.end() ? it->second : 0.0;
+  }
   on_.assign(rows.size(), 0);
   flipped_.assign(rows.size(), 0);
+  flips_ = 0;
+  last_g_.clear();
+  last_Fg_.clear();
   for (std::size_t i = 0; i < rows.size(); ++i) on_[i] = force[i] > 0;
   set_bounds(v, force);
 }
@@ -69,8 +77,11 @@ void IpoptEnforcement::set_bounds(const StepView& v, const std::vector<double>& 
   std::vector<RowArea> area;
   disc_.areas(v, rows, on_, area);
   bound_.assign(rows.size(), 0.0);
-  for (std::size_t i = 0; i < rows.size(); ++i)
+  cap_.assign(rows.size(), 0.0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
     bound_[i] = friction_bound(disc_.interfaces()[rows[i].iface].friction, on_[i], force[i], area[i].kw);
+    cap_[i] = on_[i] ? area[i].kw : 0.0;
+  }
 }
 
 void IpoptEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
@@ -90,6 +101,7 @@ StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& v
   StepCheck out;
   const auto& rows = *rows_;
   std::vector<double> force(rows.size(), 0.0), before = bound_;
+  const int flips_before = flips_;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     RowResult& r = results_[i];
     r = {};
@@ -98,7 +110,7 @@ StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& v
     r.in_contact = pressing(i);
     r.slip = slip_rate(rows[i].kin, vel);
     if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
-    if (r.in_contact != static_cast<bool>(on_[i]) && !flipped_[i]) on_[i] = r.in_contact, flipped_[i] = 1;
+    if (r.in_contact != static_cast<bool>(on_[i]) && !flipped_[i]) on_[i] = r.in_contact, flipped_[i] = 1, ++flips_;
     if (on_[i]) force[i] = std::max(r.normal, 0.0);
   }
   set_bounds(v, force);
@@ -109,7 +121,46 @@ StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& v
   }
   friction_change_ = largest > 0 ? change / largest : 0.0;
   out.resolve = friction_change_ > friction_tol_;
+  if (out.resolve) accelerate(before, flips_before);
+  if (!out.resolve) {
+    latest_force_.clear();
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (bound_of_[i] >= 0) latest_force_[{rows[i].iface, rows[i].key}] = bound_rows_[bound_of_[i]].force;
+  }
+  // A pass to the loose tol while the bounds still move by more than
+  // kLooseAbove friction tolerances (its solution is only the next bounds'
+  // source), to warm_tol near the fixed point; the solution taken is
+  // always a warm_tol one (one more pass where the last was loose).
+  if (!out.resolve && solver_.last_loose()) out.resolve = true;
+  if (out.resolve) solver_.warm_next(friction_change_ > kLooseAbove * friction_tol_);
   return out;
+}
+
+void IpoptEnforcement::accelerate(const std::vector<double>& g, int flips_before) {
+  // bound_ holds F(g), the bounds from this solve's forces. With the last
+  // pass's (g', F(g')) and the residuals r = F(g) - g, r' = F(g') - g':
+  //   theta = r . (r - r') / |r - r'|^2,   g_next = F(g) - theta (F(g) - F(g'))
+  // (Anderson mixing of depth one), each bound kept within [0, k w]. Plain
+  // iteration where a row changed its contact state (the map jumped) or
+  // the residual grew.
+  const std::vector<double> Fg = bound_;
+  const bool have_last = last_g_.size() == g.size() && flips_ == flips_before;
+  std::vector<double> next = Fg;
+  if (have_last) {
+    double rr = 0, rd = 0, dd = 0, last_rr = 0;
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      const double r = Fg[i] - g[i], r_last = last_Fg_[i] - last_g_[i], d = r - r_last;
+      rr += r * r, last_rr += r_last * r_last, rd += r * d, dd += d * d;
+    }
+    if (dd > 0 && rr < last_rr) {
+      const double theta = rd / dd;
+      for (std::size_t i = 0; i < g.size(); ++i)
+        next[i] = std::clamp(Fg[i] - theta * (Fg[i] - last_Fg_[i]), 0.0, cap_[i]);
+    }
+  }
+  last_g_ = g;
+  last_Fg_ = Fg;
+  bound_ = next;
 }
 
 void IpoptEnforcement::end_step(const StepView&, const std::vector<Vec2>&) {
@@ -127,6 +178,7 @@ void IpoptEnforcement::columns(std::vector<NamedValue>& out) const {
   out.push_back({"kkt_stationarity", k.stationarity});
   out.push_back({"kkt_round_off", k.round_off});
   out.push_back({"friction_change", friction_change_});
+  out.push_back({"warm_fallbacks", static_cast<double>(solver_.warm_failures())});
 }
 
 void IpoptEnforcement::derived(std::vector<NamedValue>& out) const {

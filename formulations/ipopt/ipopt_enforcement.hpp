@@ -5,7 +5,9 @@
 // stays a potential with a symmetric Hessian and Ipopt solves a convex
 // problem; the bound follows the multipliers by a fixed point over the
 // solves of a step until it changes by less than `friction_tolerance` of
-// the largest bound:
+// the largest bound (each pass's bounds Anderson-mixed with the last
+// pass's, accelerate(); the passes re-solve the same program, warm-started
+// from the last multipliers, ipopt_step_solver.hpp):
 //   friction factor: B = m k w on the rows pressing in the last solve
 //   Coulomb:         B = min(mu N, k w), N the last solve's multiplier
 // (k w: the sticking bound of the rows' contact areas, as everywhere).
@@ -42,10 +44,15 @@ class IpoptEnforcement final : public ContactEnforcement {
   // must not count as contact (a ring's free faces got die friction).
   bool pressing(std::size_t i) const;
   static constexpr double kPressGap = 1e-6;
+  // Friction passes whose bounds change by more than this many friction
+  // tolerances are solved to Ipopt's tol only (ipopt_step_solver.hpp).
+  static constexpr double kLooseAbove = 100;
   // k w and the friction bound of every row from which rows are in contact
   // (on_) and the rows' normal forces.
   void set_bounds(const StepView& v, const std::vector<double>& force);
   double smoothing_speed(std::size_t i) const;
+  // The next pass's bounds from this pass's (`g`, bound_ = F(g)).
+  void accelerate(const std::vector<double>& g, int flips_before);
 
   const ContactDiscretization& disc_;
   IpoptStepSolver solver_;
@@ -53,6 +60,12 @@ class IpoptEnforcement final : public ContactEnforcement {
   std::vector<BoundRow> bound_rows_;
   std::vector<int> bound_of_;  // per row: its BoundRow, -1 for a free row
   std::vector<double> bound_;  // N, per row
+  std::vector<double> cap_;    // N, per row: the sticking bound k w
+  // Anderson mixing of depth one on the fixed point g -> F(g) of the bounds
+  // (Walker and Ni 2011, eq. 1.2 with m = 1): the last pass's bounds and
+  // their image, empty at a step's first pass.
+  std::vector<double> last_g_, last_Fg_;
+  int flips_ = 0;  // rows whose contact state changed in this step
   // Per row: in contact for the friction bounds, and whether that changed
   // in this step already. A row's state changes at most once a step, as
   // the penalty's: a node whose friction factor lifts it off the die and
@@ -61,6 +74,7 @@ class IpoptEnforcement final : public ContactEnforcement {
   // state did not settle in 50 passes" at every halving).
   std::vector<char> on_, flipped_;
   std::vector<RowResult> results_;
+  std::map<std::pair<int, Index>, double> latest_force_;  // N: every row's force in the latest settled solve
   std::map<std::pair<int, Index>, double> last_force_;  // N: the last accepted step's pressing forces
   double speed_scale_ = 0, friction_tol_ = 0, friction_change_ = 0;
 };

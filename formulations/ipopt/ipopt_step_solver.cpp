@@ -27,27 +27,36 @@ constexpr double kColdMuInit = 0.1;
 
 IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, double force_scale)
     : force_scale_(std::max(force_scale, 1e-12)) {
-  const double tol = settings.real("tol", 1e-10, Range::positive(), "Ipopt's tol (scaled NLP error)");
+  tol_ = settings.real("tol", 1e-10, Range::positive(), "Ipopt's tol (scaled NLP error)");
+  warm_tol_ = settings.real("warm_tol", 1e-11, Range::positive(),
+                            "Ipopt's tol when starting from the last multipliers (a pass near the friction bounds' "
+                            "fixed point, a step's first solve)");
   const double relax =
       settings.real("bound_relax_factor", 1e-10, Range::nonnegative(), "Ipopt's relaxation of the contact bounds");
-  const int max_iter = settings.integer("max_iter", 500, 1, 100000);
+  max_iter_ = settings.integer("max_iter", 500, 1, 100000);
   const std::string mu_strategy = settings.text("mu_strategy", "monotone", {"monotone", "adaptive"});
   const std::string linear_solver = settings.text("linear_solver", "mumps", {"mumps"});
   const int print_level = settings.integer("print_level", 0, 0, 12);
   mu_init_ = settings.real("mu_init", 1e-6, Range::positive(), "Ipopt's initial barrier parameter (warm starts)");
+  warm_start_ = settings.flag("warm_start", true);
+  warm_mu_init_ = settings.real("warm_mu_init", 1e-11, Range::positive(),
+                                "Ipopt's initial barrier parameter when starting from the last multipliers");
+  warm_push_ = settings.real("warm_bound_push", 1e-11, Range::positive(),
+                             "Ipopt's warm_start bound, slack and multiplier pushes");
+  warm_max_iter_ = settings.integer("warm_max_iter", 15, 1, 100000);
   speed_scale_ = scene.largest_speed();
   if (!(speed_scale_ > 0))
     throw InputError(scene.file + ": enforcement 'ipopt' scales by the largest prescribed speed, but nothing moves");
   round_off_force_ = scene.solver.newton.tol_force;
-  // One application for the run: its options are read once, each solve
-  // hands it a new NLP.
+  // One application for the run: its options are read once, each step
+  // hands it a new NLP (a step's passes re-solve the same one).
   app_ = IpoptApplicationFactory();
   auto& o = *app_->Options();
   o.SetStringValue("sb", "yes");
   o.SetIntegerValue("print_level", print_level);
-  o.SetNumericValue("tol", tol);
+  o.SetNumericValue("tol", tol_);
   o.SetNumericValue("bound_relax_factor", relax);
-  o.SetIntegerValue("max_iter", max_iter);
+  o.SetIntegerValue("max_iter", max_iter_);
   o.SetStringValue("mu_strategy", mu_strategy);
   o.SetNumericValue("mu_init", mu_init_);
   o.SetStringValue("linear_solver", linear_solver);
@@ -82,39 +91,109 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
     rows.push_back(std::move(r));
     row_of.push_back(j);
   }
+  // A pass of the same step re-solves the same program: Ipopt keeps its
+  // structure (and MUMPS its analysis) when handed the same TNLP.
+  const auto same = [](const LinearRow& a, const LinearRow& b) { return a.lower == b.lower && a.terms == b.terms; };
+  if (IsNull(nlp_) || &problem != nlp_problem_ || u.size() != nlp_unknowns_ || rows.size() != nlp_rows_.size() ||
+      !std::equal(rows.begin(), rows.end(), nlp_rows_.begin(), same)) {
+    nlp_ = nullptr;
+    nlp_rows_ = std::move(rows);
+    nlp_problem_ = &problem;
+    nlp_unknowns_ = u.size();
+  }
+  const std::vector<LinearRow>& rows_now = nlp_rows_;
+  const bool cold = !(last_scale_ > 0);
+  // Where the solution is near a known one, Ipopt starts from its
+  // multipliers too, near the central path (warm_mu_init, warm_bound_push)
+  // instead of re-entering it from mu_init: a friction pass re-solves the
+  // same rows after a change of the objective alone (the last solve's
+  // multipliers); a step's first solve starts from the rows' forces in the
+  // last settled solve (BoundRow::start_force). A pass's start meets a
+  // loose tol already, and Ipopt would stop there without following the
+  // new bounds (a plain start's last Newton steps overshoot tol by orders):
+  // warm starts are solved to warm_tol, but for the passes far from the
+  // friction bounds' fixed point (`loose`, the enforcement's call), whose
+  // solutions only give the next bounds; a loose solution is never the
+  // one taken (IpoptEnforcement::settle). A warm attempt whose solution is
+  // not taken (warm_max_iter) is solved again from the plain start.
+  std::vector<double> start_lambda;
+  if (warm_start_ && !cold) {
+    if (warm_next_ && last_lambda_.size() == rows_now.size()) {
+      start_lambda = last_lambda_;
+    } else if (!warm_next_) {
+      start_lambda.resize(rows_now.size());
+      for (std::size_t j = 0; j < rows_now.size(); ++j) start_lambda[j] = -(*rows_)[row_of[j]].start_force;
+    }
+  }
+  const bool repass = warm_next_;
+  const bool loose = !start_lambda.empty() && repass && loose_next_;
+  last_loose_ = loose;
+  warm_next_ = loose_next_ = false;
+  used_ = static_cast<int>(rows_now.size());
+  SolveOutcome result;
+  NlpOutcome out;
+  bool ok = false;
+  if (!start_lambda.empty()) {
+    auto& o = *app_->Options();
+    o.SetStringValue("warm_start_init_point", "yes");
+    o.SetNumericValue("warm_start_bound_push", warm_push_);
+    o.SetNumericValue("warm_start_slack_bound_push", warm_push_);
+    o.SetNumericValue("warm_start_mult_bound_push", warm_push_);
+    o.SetNumericValue("mu_init", warm_mu_init_);
+    o.SetIntegerValue("max_iter", warm_max_iter_);
+    o.SetNumericValue("tol", loose ? tol_ : warm_tol_);
+    out = optimize(problem, u, last_scale_, &start_lambda);
+    o.SetStringValue("warm_start_init_point", "no");
+    o.SetNumericValue("mu_init", mu_init_);
+    o.SetIntegerValue("max_iter", max_iter_);
+    o.SetNumericValue("tol", tol_);
+    ok = conclude(v, problem, row_of, out, result);
+    if (!ok) ++warm_failures_, last_loose_ = false;
+  }
+  if (!ok) {
+    // The run's first solve starts cold, far from its solution: with
+    // Ipopt's own initial barrier parameter (0.1), not the small one meant
+    // for a start from the last velocities (mu_init; docs/notes.md, "What
+    // moved").
+    if (cold) {
+      Vec R;
+      problem.residual(u, R, last_scale_);
+      app_->Options()->SetNumericValue("mu_init", kColdMuInit);
+    }
+    out = optimize(problem, u, last_scale_);
+    if (cold) app_->Options()->SetNumericValue("mu_init", mu_init_);
+    ok = conclude(v, problem, row_of, out, result);
+  }
+  if (!ok) return result;
+  result.reason.clear();
+  u = out.u;
+  last_lambda_ = out.lambda;
+  result.converged = true;
+  return result;
+}
+
+bool IpoptStepSolver::conclude(const StepView& v, StepProblem& problem, const std::vector<int>& row_of,
+                               NlpOutcome& out, SolveOutcome& result) {
   // Ipopt's absolute complementarity tolerance (N mm/s) comes from the
   // element forces of the last solve (at the run's first solve: of the
   // point Ipopt starts from). When the forces at the solution are smaller
   // (a first point contact) and the checked complementarity misses
   // kAcceptKkt, it solves once more from its solution with the tolerance
   // of the solution's forces.
-  // The run's first solve starts cold, far from its solution: with Ipopt's
-  // own initial barrier parameter (0.1), not the small one meant for warm
-  // starts (mu_init; docs/notes.md, "What moved").
-  const bool cold = !(last_scale_ > 0);
-  if (cold) {
-    Vec R;
-    problem.residual(u, R, last_scale_);
-    app_->Options()->SetNumericValue("mu_init", kColdMuInit);
-  }
-  const auto finite = [&](const NlpOutcome& o) { return o.u.size() == u.size() && o.u.allFinite(); };
-  NlpOutcome out = optimize(problem, rows, u, last_scale_);
-  if (cold) app_->Options()->SetNumericValue("mu_init", mu_init_);
-  SolveOutcome result;
-  result.iterations = out.iterations;
+  const auto finite = [&](const NlpOutcome& o) { return o.u.size() == nlp_unknowns_ && o.u.allFinite(); };
+  result.iterations += out.iterations;
   if (finite(out)) {
-    last_scale_ = measure(v, problem, rows, row_of, out);
+    last_scale_ = measure(v, problem, nlp_rows_, row_of, out);
     if (out.status == Ipopt::SUCCESS && kkt_.complementarity > kAcceptKkt) {
       const Vec from = out.u;
-      out = optimize(problem, rows, from, last_scale_);
+      out = optimize(problem, from, last_scale_);
       result.iterations += out.iterations;
-      if (finite(out)) last_scale_ = measure(v, problem, rows, row_of, out);
+      if (finite(out)) last_scale_ = measure(v, problem, nlp_rows_, row_of, out);
     }
   }
-  used_ = static_cast<int>(rows.size());
   if (!finite(out)) {
     result.reason = "Ipopt: " + ipopt_status_text(out.status) + " (no finite solution)";
-    return result;
+    return false;
   }
   result.residual = kkt_.stationarity;
   // Ipopt's stalls, at its "acceptable" point or at a tiny step (its
@@ -140,28 +219,37 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
                   "%.1e, stationarity %.1e; its round-off %.1e)", out.iterations, kkt_.primal, kkt_.dual,
                   kkt_.complementarity, kkt_.stationarity, kkt_.round_off);
     result.reason = "Ipopt: " + ipopt_status_text(out.status) + buf;
-    return result;
+    return false;
   }
-  u = out.u;
-  result.converged = true;
-  return result;
+  return true;
 }
 
-NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& from,
-                                     double force) {
+NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const Vec& from, double force,
+                                     const std::vector<double>* lambda) {
   if (force > 0) app_->Options()->SetNumericValue("compl_inf_tol", kComplTolFactor * kAcceptKkt * force * speed_scale_);
   NlpOutcome out;
-  Ipopt::SmartPtr<Ipopt::TNLP> nlp = new StepNlp(problem, rows, from, force_scale_, speed_scale_, out);
-  app_->OptimizeTNLP(nlp);
+  if (IsValid(nlp_)) {
+    // The same program again: Ipopt's warm_start_same_structure keeps its
+    // linear solver's structure and MUMPS's symbolic analysis.
+    nlp_->restart(from, lambda, out);
+    app_->Options()->SetStringValue("warm_start_same_structure", "yes");
+    app_->ReOptimizeTNLP(GetRawPtr(nlp_));
+    app_->Options()->SetStringValue("warm_start_same_structure", "no");
+  } else {
+    nlp_ = new StepNlp(problem, nlp_rows_, from, force_scale_, speed_scale_, out, lambda);
+    app_->OptimizeTNLP(GetRawPtr(nlp_));
+  }
   return out;
 }
 
 double IpoptStepSolver::measure(const StepView& v, const StepProblem& problem, const std::vector<LinearRow>& rows,
                                 const std::vector<int>& row_of, const NlpOutcome& out) {
   // The Kuhn-Tucker conditions (paper eq. 6), checked here.
-  Vec R;
-  double scale = 0;
-  problem.residual(out.u, R, scale);
+  // R(u) at the solution: Ipopt's last gradient where it was taken there
+  // (the same bits as evaluating it again).
+  Vec R = out.grad;
+  double scale = out.grad_scale;
+  if (R.size() != out.u.size()) problem.residual(out.u, R, scale);
   if (!(scale > 0)) scale = 1;
   Vec stat = R;
   for (auto& r : *rows_) r.force = 0, r.end_gap = r.kin->gap_from;
@@ -185,15 +273,22 @@ double IpoptStepSolver::measure(const StepView& v, const StepProblem& problem, c
   // The residual's own round-off: R at u with every component moved by one
   // unit in the last place (signs from a fixed hash), over the same scale.
   // A stationarity within a small multiple of this is the floor of
-  // evaluating R in double precision, not a solver shortfall.
-  Vec u1 = out.u, R1;
-  for (Index i = 0; i < u1.size(); ++i) {
-    const double ulp = std::nextafter(std::abs(u1[i]), INFINITY) - std::abs(u1[i]);
-    u1[i] += ((i * 2654435761u) >> 7) % 2 ? ulp : -ulp;
+  // evaluating R in double precision, not a solver shortfall. Taken at a
+  // step's first solve and at every solve Ipopt did not end with success
+  // (where the acceptance needs it); the friction passes in between move u
+  // too little to change it.
+  if (&problem != round_off_for_ || out.status != Ipopt::SUCCESS) {
+    Vec u1 = out.u, R1;
+    for (Index i = 0; i < u1.size(); ++i) {
+      const double ulp = std::nextafter(std::abs(u1[i]), INFINITY) - std::abs(u1[i]);
+      u1[i] += ((i * 2654435761u) >> 7) % 2 ? ulp : -ulp;
+    }
+    double s1 = 0;
+    problem.residual(u1, R1, s1);
+    round_off_ = (R1 - R).norm() / scale;
+    round_off_for_ = &problem;
   }
-  double s1 = 0;
-  problem.residual(u1, R1, s1);
-  kkt_.round_off = (R1 - R).norm() / scale;
+  kkt_.round_off = round_off_;
   return scale;
 }
 

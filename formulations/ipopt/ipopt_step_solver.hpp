@@ -35,6 +35,7 @@ struct BoundRow {
   double h = 0;        // mm, local element size
   double force = 0;    // N, normal contact force (-lambda) of the last solve
   double end_gap = 0;  // mm, predicted gap at the end of the step
+  double start_force = 0;  // N, the row's force in the last solve before this step's (its warm start)
 };
 
 struct Kkt {
@@ -47,16 +48,34 @@ class IpoptStepSolver final : public StepSolver {
   // force_scale (N): the objective's scale (what the contact could carry).
   IpoptStepSolver(const Scene& scene, CaseSection& settings, double force_scale);
   // The rows of the next solves (valid until the next call).
-  void set_rows(std::vector<BoundRow>* rows) { rows_ = rows; }
+  void set_rows(std::vector<BoundRow>* rows) {
+    rows_ = rows, warm_next_ = loose_next_ = false, nlp_ = nullptr, round_off_for_ = nullptr;
+  }
+  // The next solve re-solves the same rows after a change of the objective
+  // alone (the friction bounds' fixed point): it starts from the last
+  // solution's multipliers (the `warm_start` option); loose: to Ipopt's
+  // tol, not warm_tol (a pass far from the fixed point).
+  void warm_next(bool loose) { warm_next_ = true, loose_next_ = loose; }
+  // The last solve was a warm pass to the loose tol.
+  bool last_loose() const { return last_loose_; }
   SolveOutcome solve(const StepView& v, StepProblem& problem, Vec& u) override;
   const Kkt& kkt() const { return kkt_; }
+  int warm_failures() const { return warm_failures_; }
   int constraints() const { return used_; }
   void derived(std::vector<NamedValue>& out) const;
 
  private:
-  // One Ipopt solve from `from`, its complementarity tolerance set from
-  // the element-force scale `force` (N; 0 keeps the last).
-  NlpOutcome optimize(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& from, double force);
+  // One Ipopt solve of the program of nlp_rows_ from `from` (and from the
+  // row multipliers `lambda` when warm-starting), its complementarity
+  // tolerance set from the element-force scale `force` (N; 0 keeps the
+  // last). The program of the last solve is solved again (ReOptimizeTNLP)
+  // when it is the same problem with the same rows.
+  NlpOutcome optimize(StepProblem& problem, const Vec& from, double force, const std::vector<double>* lambda = nullptr);
+  // After a solve: its Kuhn-Tucker residuals measured (and the solve
+  // repeated where only its complementarity tolerance was too loose);
+  // whether its solution is taken, else result.reason says why not.
+  bool conclude(const StepView& v, StepProblem& problem, const std::vector<int>& row_of, NlpOutcome& out,
+                SolveOutcome& result);
   // The Kuhn-Tucker residuals of a solve into kkt_ and the rows' forces and
   // gaps; returns the element-force scale at the solution.
   double measure(const StepView& v, const StepProblem& problem, const std::vector<LinearRow>& rows,
@@ -65,9 +84,23 @@ class IpoptStepSolver final : public StepSolver {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
   std::vector<BoundRow>* rows_ = nullptr;
   double force_scale_ = 1, speed_scale_ = 0, mu_init_ = 1e-6;
+  double tol_ = 1e-10;
+  double warm_mu_init_ = 0, warm_push_ = 0, warm_tol_ = 0;  // the warm start's barrier parameter, pushes, tol
+  int max_iter_ = 500, warm_max_iter_ = 50;
+  bool warm_start_ = true, warm_next_ = false, loose_next_ = false, last_loose_ = false;
+  int warm_failures_ = 0;  // warm starts solved again from the plain start
+  std::vector<double> last_lambda_;  // the last solve's row multipliers
+  // The program of this step's last solve: the problem it was built on,
+  // its rows and unknowns.
+  Ipopt::SmartPtr<StepNlp> nlp_;
+  const StepProblem* nlp_problem_ = nullptr;
+  std::vector<LinearRow> nlp_rows_;
+  Index nlp_unknowns_ = -1;
   double round_off_force_ = 0;  // Newton's tol_force (relative residual)
   double last_scale_ = 0;       // N, the element-force scale of the last solve
   Kkt kkt_;
+  const StepProblem* round_off_for_ = nullptr;  // the problem round_off_ was taken on
+  double round_off_ = 0;
   int used_ = 0;
 };
 

@@ -7,8 +7,8 @@
 namespace rpfem {
 
 StepNlp::StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& start, double force_scale,
-                 double speed_scale, NlpOutcome& out)
-    : problem_(problem), rows_(rows), start_(start), force_scale_(force_scale), speed_scale_(speed_scale), out_(out) {
+                 double speed_scale, NlpOutcome& out, const std::vector<double>* start_lambda)
+    : problem_(problem), rows_(rows), start_(start), start_lambda_(start_lambda), force_scale_(force_scale), speed_scale_(speed_scale), out_(&out) {
   // The Hessian's pattern is the kernel's (fixed within the step).
   const SpMat& K = problem_.tangent(start_, true);
   for (Eigen::Index c = 0; c < K.outerSize(); ++c)
@@ -34,28 +34,42 @@ bool StepNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number*
   return true;
 }
 
-bool StepNlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool, Ipopt::Number*,
-                                 Ipopt::Number*, Ipopt::Index, bool, Ipopt::Number*) {
+bool StepNlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
+                                 Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda, Ipopt::Number* lambda) {
   if (init_x)
     for (Ipopt::Index i = 0; i < n; ++i) x[i] = start_[i];
+  if (init_z)  // the unknowns have no bounds: their multipliers are unused
+    for (Ipopt::Index i = 0; i < n; ++i) z_L[i] = 0, z_U[i] = 0;
+  if (init_lambda) {
+    if (!start_lambda_ || static_cast<Ipopt::Index>(start_lambda_->size()) != m) return false;
+    for (Ipopt::Index j = 0; j < m; ++j) lambda[j] = (*start_lambda_)[j];
+  }
   return true;
 }
 
 bool StepNlp::eval_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number& obj_value) {
-  obj_value = problem_.energy(map(n, x));
+  // Ipopt asks for the gradient at the points it accepts, which it has
+  // evaluated f at: both from one element pass (the same bits as the two
+  // calls, test Conformance.ResidualAndEnergyInOnePassAreTheTwoCallsBits).
+  grad_x_ = map(n, x);
+  obj_value = problem_.residual_energy(grad_x_, grad_, grad_scale_);
+  grad_valid_ = true;
   return std::isfinite(obj_value);
 }
 
-bool StepNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number* grad_f) {
-  Vec R;
-  double scale = 0;
-  problem_.residual(map(n, x), R, scale);  // R = dPi/du
-  for (Ipopt::Index i = 0; i < n; ++i) grad_f[i] = R[i];
-  return R.allFinite();
+bool StepNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number* grad_f) {
+  if (new_x || !grad_valid_) {
+    grad_x_ = map(n, x);
+    problem_.residual(grad_x_, grad_, grad_scale_);  // R = dPi/du
+    grad_valid_ = true;
+  }
+  for (Ipopt::Index i = 0; i < n; ++i) grad_f[i] = grad_[i];
+  return grad_.allFinite();
 }
 
-bool StepNlp::eval_g(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Index m, Ipopt::Number* g) {
+bool StepNlp::eval_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Number* g) {
   (void)n;
+  if (new_x) grad_valid_ = false;
   for (Ipopt::Index j = 0; j < m; ++j) {
     double s = 0;
     for (const auto& [dof, a] : rows_[j].terms) s += a * x[dof];
@@ -64,8 +78,9 @@ bool StepNlp::eval_g(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Index 
   return true;
 }
 
-bool StepNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Index m, Ipopt::Index,
+bool StepNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number*, bool new_x, Ipopt::Index m, Ipopt::Index,
                          Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) {
+  if (new_x) grad_valid_ = false;
   Ipopt::Index k = 0;
   for (Ipopt::Index j = 0; j < m; ++j)
     for (const auto& [dof, a] : rows_[j].terms) {
@@ -80,9 +95,10 @@ bool StepNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Index 
   return true;
 }
 
-bool StepNlp::eval_h(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number obj_factor, Ipopt::Index,
+bool StepNlp::eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number obj_factor, Ipopt::Index,
                      const Ipopt::Number*, bool, Ipopt::Index nele_hess, Ipopt::Index* iRow, Ipopt::Index* jCol,
                      Ipopt::Number* values) {
+  if (new_x) grad_valid_ = false;
   if (!values) {
     for (Ipopt::Index k = 0; k < nele_hess; ++k) iRow[k] = lower_[k].first, jCol[k] = lower_[k].second;
     return true;
@@ -114,10 +130,12 @@ void StepNlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, cons
                                 const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index m, const Ipopt::Number*,
                                 const Ipopt::Number* lambda, Ipopt::Number, const Ipopt::IpoptData* ip_data,
                                 Ipopt::IpoptCalculatedQuantities*) {
-  out_.status = status;
-  out_.u = map(n, x);
-  out_.lambda.assign(lambda, lambda + m);
-  out_.iterations = ip_data ? ip_data->iter_count() : 0;
+  out_->status = status;
+  out_->u = map(n, x);
+  out_->lambda.assign(lambda, lambda + m);
+  out_->iterations = ip_data ? ip_data->iter_count() : 0;
+  out_->grad.resize(0);
+  if (grad_valid_ && grad_x_ == out_->u) out_->grad = grad_, out_->grad_scale = grad_scale_;
 }
 
 std::string ipopt_status_text(Ipopt::SolverReturn s) {

@@ -29,6 +29,10 @@ struct NlpOutcome {
   Vec u;                       // solution (reduced unknowns)
   std::vector<double> lambda;  // row multipliers (Ipopt's sign: <= 0 pressing)
   int iterations = 0;
+  // The objective's gradient R(u) at the solution and its element-force
+  // scale (N), where Ipopt's last evaluation was there (else empty).
+  Vec grad;
+  double grad_scale = 0;
 };
 
 class StepNlp final : public Ipopt::TNLP {
@@ -36,8 +40,16 @@ class StepNlp final : public Ipopt::TNLP {
   // force_scale (N) and speed_scale (mm/s) scale the objective's gradient
   // and the rows to order one (Ipopt's user scaling), so Ipopt's tol is
   // relative to the contact load.
+  // start_lambda: the rows' multipliers to start from (Ipopt's warm start,
+  // used when its warm_start_init_point option is set), or null.
   StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& start, double force_scale,
-          double speed_scale, NlpOutcome& out);
+          double speed_scale, NlpOutcome& out, const std::vector<double>* start_lambda = nullptr);
+  // The next solve of the same program (Ipopt's ReOptimizeTNLP, which
+  // keeps the program's structure and the linear solver's analysis) from
+  // another start, its outcome into `out`.
+  void restart(const Vec& start, const std::vector<double>* start_lambda, NlpOutcome& out) {
+    start_ = start, start_lambda_ = start_lambda, out_ = &out, grad_valid_ = false;
+  }
 
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
                     IndexStyleEnum& index_style) override;
@@ -65,11 +77,17 @@ class StepNlp final : public Ipopt::TNLP {
   StepProblem& problem_;
   const std::vector<LinearRow>& rows_;
   Vec start_;
+  const std::vector<double>* start_lambda_ = nullptr;
   double force_scale_ = 1, speed_scale_ = 1;
-  NlpOutcome& out_;
+  NlpOutcome* out_;
   std::vector<std::pair<Ipopt::Index, Ipopt::Index>> lower_;  // (row, col) of the Hessian's lower triangle
   Ipopt::Index jac_nnz_ = 0;
   Vec map(Ipopt::Index n, const Ipopt::Number* x) const { return Eigen::Map<const Vec>(x, n); }
+  // The gradient at the point of the last eval_f (one element pass gives
+  // both: StepProblem::residual_energy), valid until Ipopt's new_x.
+  Vec grad_, grad_x_;
+  double grad_scale_ = 0;
+  bool grad_valid_ = false;
 };
 
 // Human-readable name of an Ipopt return status.

@@ -312,6 +312,42 @@ TEST(Ipopt, TestTwoDieFirstContactMeetsTheKuhnTuckerConditions) {
               h.at("kkt_complementarity")[0], kkt, pen);
 }
 
+// Test II's die with Coulomb friction to 0.5 mm (without landing control:
+// the same strokes): warm starts (the friction passes from the last
+// multipliers, a step's first solve from the last forces) give the plain
+// starts' loads in fewer Ipopt iterations, and are no farther than they
+// from a solution to a hundred times tighter tolerances.
+TEST(Ipopt, WarmStartsGiveThePlainStartsLoadsInFewerIterations) {
+  const std::string set = " --formulation ipopt --set stepping.end_stroke=0.5 --set contact.landing_control=false";
+  const History warm = read_history(run_case("paper_test2_die", set, 0, "_warm") + "/history.csv");
+  const History plain = read_history(
+      run_case("paper_test2_die", set + " --set formulations.ipopt.warm_start=false", 0, "_plain") + "/history.csv");
+  const History tight = read_history(run_case("paper_test2_die",
+                                              set + " --set formulations.ipopt.warm_start=false --set "
+                                                    "formulations.ipopt.tol=1e-12 --set "
+                                                    "formulations.ipopt.friction_tolerance=1e-8",
+                                              0, "_tight") +
+                                     "/history.csv");
+  ASSERT_EQ(warm.rows(), 11u);
+  ASSERT_EQ(plain.rows(), warm.rows());
+  ASSERT_EQ(tight.rows(), warm.rows());
+  double between = 0, warm_err = 0, plain_err = 0, its_warm = 0, its_plain = 0;
+  for (std::size_t i = 0; i < warm.rows(); ++i) {
+    const double w = warm.at("punch.Fy")[i], p = plain.at("punch.Fy")[i], t = tight.at("punch.Fy")[i];
+    between = std::max(between, std::abs(w / p - 1));
+    warm_err = std::max(warm_err, std::abs(w / t - 1));
+    plain_err = std::max(plain_err, std::abs(p / t - 1));
+    its_warm += warm.at("newton_iterations")[i], its_plain += plain.at("newton_iterations")[i];
+  }
+  EXPECT_LT(between, 1e-7);
+  EXPECT_LE(warm_err, plain_err);
+  EXPECT_LT(its_warm, 0.6 * its_plain);
+  EXPECT_EQ(warm.at("warm_fallbacks").front(), 0.0);
+  std::printf("[measured] Test II die to 0.5 mm: warm against plain starts %.2e; against tight tolerances: warm %.2e, "
+              "plain %.2e; Ipopt iterations %g warm, %g plain; warm starts solved again %g\n",
+              between, warm_err, plain_err, its_warm, its_plain, warm.at("warm_fallbacks").back());
+}
+
 // Test II's virtual rigid body to 0.15 mm: the residual's own evaluation
 // noise (kkt_round_off: R at u moved by one ulp) is above 1e-8 at the first
 // solve, and stationarity is within it at every step; the contact

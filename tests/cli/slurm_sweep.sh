@@ -114,7 +114,7 @@ description = "slow"
 case = "upsetting_dies_frictionless_axisym"
 formulation = "ipopt"
 load = "top_die.Fy"
-set = ["stepping.end_stroke=5", "stepping.stroke_increment=0.001"]
+set = ["stepping.end_stroke=5", "stepping.stroke_increment=0.0002"]
 [[study.axis]]
 key = "run.mesh_factor"
 values = [1.0]
