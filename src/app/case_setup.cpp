@@ -5,6 +5,7 @@
 #include "io/variants.hpp"
 #include "io/scene_reader.hpp"
 #include "model/boundary.hpp"
+#include "model/initial_remesh.hpp"
 
 namespace rpfem {
 
@@ -15,6 +16,7 @@ PreparedCase prepare_case(const std::string& case_file, const std::vector<std::s
   read_variants(c.file->root());  // validated, and known to finish()
   validate_expect_tables(c.file->root(), case_file);  // the same ([expect], checked by verification/)
   c.scene = std::make_unique<Scene>(read_scene(*c.file));
+  if (c.scene->remesh.enabled && c.scene->remesh.initial_mesh) *c.scene = initial_remesh(*c.scene);
   c.monitors = read_monitors(c.file->root(), c.scene->mesh);
   c.contact = make_contact(*c.file, *c.scene, {formulation, discretization});
   c.file->finish();

@@ -34,11 +34,7 @@ RunOutcome run_with_remeshing(PreparedCase& c, const std::string& formulation, c
                               RunObserver& obs) {
   RunOutcome out = run_scene(*c.scene, *c.contact, obs);
   if (out.remesh.empty()) return out;
-  RemeshRequest request;
-  request.bodies = c.scene->remesh.bodies;
-  for (int b : request.bodies) request.size.push_back(c.scene->remesh.size.at(b));
-  request.volume_tolerance = c.scene->remesh.volume_tolerance;
-  request.die_corner_size = c.scene->remesh.die_corner_size;
+  RemeshRequest request = remesh_request(*c.scene);
   // The scenes and formulations of the segments stay alive to the end (a
   // formulation keeps references into its scene).
   std::vector<std::unique_ptr<Scene>> scenes;

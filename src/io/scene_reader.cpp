@@ -429,6 +429,7 @@ void read_remesh(CaseSection r, Scene& sc) {
   m.max_remeshes = r.integer("max_remeshes", 100, 1, 100000);
   m.die_corner_size = r.real("die_corner_size", 0.25, {0.05, 1, false, false},
                              "share of element_size at a die's corner near the body (1: uniform)");
+  m.initial_mesh = r.flag("initial_mesh", false);
   m.volume_tolerance = r.real("volume_tolerance", 1e-8, {0, 1e-3, false, false},
                               "share of a body's volume its outline's simplification may change per remesh");
   // Which bodies: the names listed, else every body but a virtual rigid one

@@ -9,6 +9,7 @@
 #include "mesh/field_transfer.hpp"
 #include "mesh/outline_mesher.hpp"
 #include "mesh/polygon.hpp"
+#include "model/initial_remesh.hpp"
 
 namespace rpfem {
 
@@ -217,6 +218,22 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const Reme
   }
   out.scene.mesh = std::move(mesh);
   return out;
+}
+
+RemeshRequest remesh_request(const Scene& scene) {
+  RemeshRequest request;
+  request.bodies = scene.remesh.bodies;
+  for (int b : request.bodies) request.size.push_back(scene.remesh.size.at(b));
+  request.volume_tolerance = scene.remesh.volume_tolerance;
+  request.die_corner_size = scene.remesh.die_corner_size;
+  return request;
+}
+
+Scene initial_remesh(const Scene& scene) {
+  RunState start;
+  start.x = scene.mesh.x;
+  start.strain.assign(scene.mesh.num_elements(), {0, 0, 0, 0});
+  return remesh_scene(scene, start, remesh_request(scene)).scene;
 }
 
 }  // namespace rpfem

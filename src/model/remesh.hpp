@@ -48,4 +48,7 @@ struct RemeshRequest {
 
 RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const RemeshRequest& request);
 
+// The request of the scene's [remesh] (no pinned nodes).
+RemeshRequest remesh_request(const Scene& scene);
+
 }  // namespace rpfem

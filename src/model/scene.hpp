@@ -114,6 +114,10 @@ struct RemeshSpec {
   // Share of a body's volume the simplification of its outline may change
   // per remesh (mesh/outline_mesher.hpp, OutlineOptions).
   double volume_tolerance = 1e-8;
+  // Mesh the bodies with the remesher before the first step (its size
+  // field graded at the dies' corners): the first remesh then meets the
+  // resolution it makes, not the case's uniform mesh.
+  bool initial_mesh = false;
   std::vector<int> bodies;  // the bodies meshed anew (remesh.bodies; default: all but virtual rigid ones)
   // mm, per body: the target element size, element_size or else the body's
   // mean edge length on the initial mesh (resolved by the reader; a remeshed
