@@ -41,7 +41,7 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   warm_start_ = settings.flag("warm_start", true);
   warm_mu_init_ = settings.real("warm_mu_init", 1e-11, Range::positive(),
                                 "Ipopt's initial barrier parameter when starting from the last multipliers");
-  warm_push_ = settings.real("warm_bound_push", 1e-11, Range::positive(),
+  warm_push_ = settings.real("warm_bound_push", 1e-6, Range::positive(),
                              "Ipopt's warm_start bound, slack and multiplier pushes");
   warm_max_iter_ = settings.integer("warm_max_iter", 15, 1, 100000);
   speed_scale_ = scene.largest_speed();
