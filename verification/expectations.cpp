@@ -21,7 +21,7 @@ namespace {
 const NamedValues<MeasureKind> kMeasureKinds{{"load_difference", MeasureKind::LoadDifference},
                                              {"history_max", MeasureKind::HistoryMax},
                                              {"summary", MeasureKind::Summary}};
-const NamedValues<RunOutcome> kOutcomes{{"finished", RunOutcome::Finished}, {"stopped", RunOutcome::Stopped}};
+const NamedValues<ExpectedEnd> kOutcomes{{"finished", ExpectedEnd::Finished}, {"stopped", ExpectedEnd::Stopped}};
 
 // A measure as read, with its reference run still unresolved.
 struct ReadMeasure {
@@ -59,7 +59,7 @@ ReadExpectation read_expect(CaseSection t, const std::string& case_file) {
   Expectation& e = out.e;
   e.outcome = t.choice("outcome", std::nullopt, kOutcomes);
   if (t.has("reason_contains")) {
-    if (e.outcome != RunOutcome::Stopped) t.fail("reason_contains", "only with outcome = \"stopped\"");
+    if (e.outcome != ExpectedEnd::Stopped) t.fail("reason_contains", "only with outcome = \"stopped\"");
     e.reason_contains = t.text_array("reason_contains", "words the stop reason must contain");
   }
   if (t.has("warnings")) e.warnings = t.text_array("warnings", "words of each warning the run must record");
@@ -159,7 +159,7 @@ std::string sci(double x) {
 }  // namespace
 
 const std::string& measure_kind_name(MeasureKind what) { return name_of(kMeasureKinds, what); }
-const std::string& outcome_name(RunOutcome outcome) { return name_of(kOutcomes, outcome); }
+const std::string& outcome_name(ExpectedEnd outcome) { return name_of(kOutcomes, outcome); }
 
 std::vector<std::string> ExpectedRun::arguments() const {
   std::vector<std::string> a{case_file, "--quiet"};

@@ -34,11 +34,11 @@ struct ExpectedRun {
 // [[expect.measure]] what, as above.
 enum class MeasureKind { LoadDifference, HistoryMax, Summary };
 // [expect] outcome: how the run must end (summary.json status).
-enum class RunOutcome { Finished, Stopped };
+enum class ExpectedEnd { Finished, Stopped };
 
 // Their names in a case file ("load_difference", "finished", ...).
 const std::string& measure_kind_name(MeasureKind what);
-const std::string& outcome_name(RunOutcome outcome);
+const std::string& outcome_name(ExpectedEnd outcome);
 
 struct ExpectedMeasure {
   MeasureKind what = MeasureKind::Summary;
@@ -51,7 +51,7 @@ struct ExpectedMeasure {
 
 struct Expectation {
   int run = 0;  // index into ExpectedCase::runs
-  RunOutcome outcome = RunOutcome::Finished;
+  ExpectedEnd outcome = ExpectedEnd::Finished;
   std::vector<std::string> reason_contains, warnings;
   std::vector<ExpectedMeasure> measures;
 };

@@ -122,17 +122,19 @@ StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& v
   friction_change_ = largest > 0 ? change / largest : 0.0;
   out.resolve = friction_change_ > friction_tol_;
   if (out.resolve) accelerate(before, flips_before);
-  if (!out.resolve) {
-    latest_force_.clear();
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      if (bound_of_[i] >= 0) latest_force_[{rows[i].iface, rows[i].key}] = bound_rows_[bound_of_[i]].force;
-  }
   // A pass to the loose tol while the bounds still move by more than
   // kLooseAbove friction tolerances (its solution is only the next bounds'
   // source), to warm_tol near the fixed point; the solution taken is
-  // always a warm_tol one (one more pass where the last was loose).
+  // never a loose one (one more pass where the last was loose).
   if (!out.resolve && solver_.last_loose()) out.resolve = true;
-  if (out.resolve) solver_.warm_next(friction_change_ > kLooseAbove * friction_tol_);
+  if (out.resolve) {
+    solver_.warm_next(friction_change_ > kLooseAbove * friction_tol_);
+    return out;
+  }
+  // Settled: its forces start the next solve (BoundRow::start_force).
+  latest_force_.clear();
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (bound_of_[i] >= 0) latest_force_[{rows[i].iface, rows[i].key}] = bound_rows_[bound_of_[i]].force;
   return out;
 }
 

@@ -60,6 +60,10 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   o.SetStringValue("mu_strategy", mu_strategy);
   o.SetNumericValue("mu_init", mu_init_);
   o.SetStringValue("linear_solver", linear_solver);
+  // Read by Ipopt only with warm_start_init_point (solve()).
+  o.SetNumericValue("warm_start_bound_push", warm_push_);
+  o.SetNumericValue("warm_start_slack_bound_push", warm_push_);
+  o.SetNumericValue("warm_start_mult_bound_push", warm_push_);
   o.SetStringValue("jac_d_constant", "yes");
   o.SetStringValue("nlp_scaling_method", "user-scaling");
   if (app_->Initialize() != Ipopt::Solve_Succeeded)
@@ -91,14 +95,14 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
     rows.push_back(std::move(r));
     row_of.push_back(j);
   }
-  // A pass of the same step re-solves the same program: Ipopt keeps its
-  // structure (and MUMPS its analysis) when handed the same TNLP.
+  // A pass of the same solve (set_rows starts each) re-solves the same
+  // program: Ipopt keeps its structure (and MUMPS its analysis) when handed
+  // the same TNLP.
   const auto same = [](const LinearRow& a, const LinearRow& b) { return a.lower == b.lower && a.terms == b.terms; };
-  if (IsNull(nlp_) || &problem != nlp_problem_ || u.size() != nlp_unknowns_ || rows.size() != nlp_rows_.size() ||
+  if (IsNull(nlp_) || u.size() != nlp_unknowns_ || rows.size() != nlp_rows_.size() ||
       !std::equal(rows.begin(), rows.end(), nlp_rows_.begin(), same)) {
     nlp_ = nullptr;
     nlp_rows_ = std::move(rows);
-    nlp_problem_ = &problem;
     nlp_unknowns_ = u.size();
   }
   const std::vector<LinearRow>& rows_now = nlp_rows_;
@@ -134,19 +138,9 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
   NlpOutcome out;
   bool ok = false;
   if (!start_lambda.empty()) {
-    auto& o = *app_->Options();
-    o.SetStringValue("warm_start_init_point", "yes");
-    o.SetNumericValue("warm_start_bound_push", warm_push_);
-    o.SetNumericValue("warm_start_slack_bound_push", warm_push_);
-    o.SetNumericValue("warm_start_mult_bound_push", warm_push_);
-    o.SetNumericValue("mu_init", warm_mu_init_);
-    o.SetIntegerValue("max_iter", warm_max_iter_);
-    o.SetNumericValue("tol", loose ? tol_ : warm_tol_);
+    use_warm_start(true, loose ? tol_ : warm_tol_);
     out = optimize(problem, u, last_scale_, &start_lambda);
-    o.SetStringValue("warm_start_init_point", "no");
-    o.SetNumericValue("mu_init", mu_init_);
-    o.SetIntegerValue("max_iter", max_iter_);
-    o.SetNumericValue("tol", tol_);
+    use_warm_start(false, tol_);
     ok = conclude(v, problem, row_of, out, result);
     if (!ok) ++warm_failures_, last_loose_ = false;
   }
@@ -224,6 +218,14 @@ bool IpoptStepSolver::conclude(const StepView& v, StepProblem& problem, const st
   return true;
 }
 
+void IpoptStepSolver::use_warm_start(bool on, double tol) {
+  auto& o = *app_->Options();
+  o.SetStringValue("warm_start_init_point", on ? "yes" : "no");
+  o.SetNumericValue("mu_init", on ? warm_mu_init_ : mu_init_);
+  o.SetIntegerValue("max_iter", on ? warm_max_iter_ : max_iter_);
+  o.SetNumericValue("tol", tol);
+}
+
 NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const Vec& from, double force,
                                      const std::vector<double>* lambda) {
   if (force > 0) app_->Options()->SetNumericValue("compl_inf_tol", kComplTolFactor * kAcceptKkt * force * speed_scale_);
@@ -277,7 +279,7 @@ double IpoptStepSolver::measure(const StepView& v, const StepProblem& problem, c
   // step's first solve and at every solve Ipopt did not end with success
   // (where the acceptance needs it); the friction passes in between move u
   // too little to change it.
-  if (&problem != round_off_for_ || out.status != Ipopt::SUCCESS) {
+  if (!have_round_off_ || out.status != Ipopt::SUCCESS) {
     Vec u1 = out.u, R1;
     for (Index i = 0; i < u1.size(); ++i) {
       const double ulp = std::nextafter(std::abs(u1[i]), INFINITY) - std::abs(u1[i]);
@@ -286,7 +288,7 @@ double IpoptStepSolver::measure(const StepView& v, const StepProblem& problem, c
     double s1 = 0;
     problem.residual(u1, R1, s1);
     round_off_ = (R1 - R).norm() / scale;
-    round_off_for_ = &problem;
+    have_round_off_ = true;
   }
   kkt_.round_off = round_off_;
   return scale;

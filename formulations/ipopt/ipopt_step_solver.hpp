@@ -49,7 +49,7 @@ class IpoptStepSolver final : public StepSolver {
   IpoptStepSolver(const Scene& scene, CaseSection& settings, double force_scale);
   // The rows of the next solves (valid until the next call).
   void set_rows(std::vector<BoundRow>* rows) {
-    rows_ = rows, warm_next_ = loose_next_ = false, nlp_ = nullptr, round_off_for_ = nullptr;
+    rows_ = rows, warm_next_ = loose_next_ = have_round_off_ = false, nlp_ = nullptr;
   }
   // The next solve re-solves the same rows after a change of the objective
   // alone (the friction bounds' fixed point): it starts from the last
@@ -71,6 +71,9 @@ class IpoptStepSolver final : public StepSolver {
   // last). The program of the last solve is solved again (ReOptimizeTNLP)
   // when it is the same problem with the same rows.
   NlpOutcome optimize(StepProblem& problem, const Vec& from, double force, const std::vector<double>* lambda = nullptr);
+  // Ipopt's options for a start from given multipliers (warm_start_init_point,
+  // warm_mu_init, warm_max_iter) or for the plain start; tol either way.
+  void use_warm_start(bool on, double tol);
   // After a solve: its Kuhn-Tucker residuals measured (and the solve
   // repeated where only its complementarity tolerance was too loose);
   // whether its solution is taken, else result.reason says why not.
@@ -86,20 +89,18 @@ class IpoptStepSolver final : public StepSolver {
   double force_scale_ = 1, speed_scale_ = 0, mu_init_ = 1e-6;
   double tol_ = 1e-10;
   double warm_mu_init_ = 0, warm_push_ = 0, warm_tol_ = 0;  // the warm start's barrier parameter, pushes, tol
-  int max_iter_ = 500, warm_max_iter_ = 50;
+  int max_iter_ = 500, warm_max_iter_ = 15;
   bool warm_start_ = true, warm_next_ = false, loose_next_ = false, last_loose_ = false;
   int warm_failures_ = 0;  // warm starts solved again from the plain start
   std::vector<double> last_lambda_;  // the last solve's row multipliers
-  // The program of this step's last solve: the problem it was built on,
-  // its rows and unknowns.
+  // The program of this solve's last pass: its rows and unknowns.
   Ipopt::SmartPtr<StepNlp> nlp_;
-  const StepProblem* nlp_problem_ = nullptr;
   std::vector<LinearRow> nlp_rows_;
   Index nlp_unknowns_ = -1;
   double round_off_force_ = 0;  // Newton's tol_force (relative residual)
   double last_scale_ = 0;       // N, the element-force scale of the last solve
   Kkt kkt_;
-  const StepProblem* round_off_for_ = nullptr;  // the problem round_off_ was taken on
+  bool have_round_off_ = false;  // round_off_ taken in this solve's passes
   double round_off_ = 0;
   int used_ = 0;
 };

@@ -5,7 +5,7 @@
 #include "io/variants.hpp"
 #include "io/scene_reader.hpp"
 #include "model/boundary.hpp"
-#include "model/initial_remesh.hpp"
+#include "model/remesh.hpp"
 
 namespace rpfem {
 

@@ -9,7 +9,6 @@
 #include "mesh/field_transfer.hpp"
 #include "mesh/outline_mesher.hpp"
 #include "mesh/polygon.hpp"
-#include "model/initial_remesh.hpp"
 
 namespace rpfem {
 

@@ -51,4 +51,9 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const Reme
 // The request of the scene's [remesh] (no pinned nodes).
 RemeshRequest remesh_request(const Scene& scene);
 
+// The scene with its remeshed bodies meshed anew in their initial
+// configuration (remesh.initial_mesh): the same outline, the remesher's
+// size field.
+Scene initial_remesh(const Scene& scene);
+
 }  // namespace rpfem

@@ -1,4 +1,4 @@
-// remesh.initial_mesh (model/initial_remesh.hpp): the backward extrusion's
+// remesh.initial_mesh (model/remesh.hpp): the backward extrusion's
 // slug meshed by the remesher before the first step keeps its outline (the
 // volume to round-off, every named side's end points) and is graded at the
 // dies' corners as every remesh of the run is.
@@ -12,7 +12,7 @@
 
 #include "io/case_file.hpp"
 #include "io/scene_reader.hpp"
-#include "model/initial_remesh.hpp"
+#include "model/remesh.hpp"
 
 using namespace rpfem;
 
