@@ -393,12 +393,15 @@ SolverSpec read_solver(CaseSection solver) {
 void read_stepping(CaseSection st, int max_steps, Scene& sc) {
   sc.stepping.end_stroke = st.real("end_stroke", std::nullopt, Range::positive(), "mm");
   sc.stepping.stroke_increment = st.real("stroke_increment", std::nullopt, {0, sc.stepping.end_stroke, true, false}, "mm");
-  const double steps = std::ceil(sc.stepping.end_stroke / sc.stepping.stroke_increment - 1e-9);
+  sc.stepping.relative_increment = st.real("relative_increment", 0.0, {0, 1, false, true});
+  const double steps = sc.stepping.planned_steps_real();
   if (!(steps <= max_steps)) {
     char text[240];
     std::snprintf(text, sizeof text,
-                  "end_stroke / stroke_increment = %.6g steps; expected at most run.max_steps = %d (a larger "
-                  "increment, or raise run.max_steps)",
+                  "%s %.6g steps; expected at most run.max_steps = %d (a larger increment, or raise "
+                  "run.max_steps)",
+                  sc.stepping.relative_increment > 0 ? "end_stroke, stroke_increment and relative_increment give"
+                                                     : "end_stroke / stroke_increment =",
                   steps, max_steps);
     st.fail("stroke_increment", text);
   }

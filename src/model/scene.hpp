@@ -80,15 +80,32 @@ enum class TimeIntegration { Euler, Midpoint };
 
 struct SteppingSpec {
   double stroke_increment = 0.1;  // mm per step of the reference motion
+  // A step's increment grows with the stroke done: max(stroke_increment,
+  // relative_increment * stroke) (0: fixed steps). For a stiff mode whose
+  // stable step grows with the stroke, e.g. two bodies in series sharing a
+  // stroke: their split relaxes at (d ln F / ds) / m per mm of stroke, an
+  // explicit update is stable below ds (d ln F / ds) / m = 2, and a sphere's
+  // load grows as its contact area, F ~ s (docs/notes.md, "Test I").
+  double relative_increment = 0;
   double end_stroke = 1.0;        // mm
   std::string reference;          // velocity group (or die) whose travel is the stroke
   int max_cuts = 6;               // halvings of a failing step
   int output_every = 1;           // fields written every k steps (and the last)
   TimeIntegration integration = TimeIntegration::Euler;
-  // Steps at the nominal increment (a last short step counts as one).
-  int planned_steps() const {
-    return std::max(1, static_cast<int>(std::ceil(end_stroke / stroke_increment - 1e-9)));
+  // The nominal increment of the step that starts at this stroke, mm.
+  double increment_at(double stroke) const { return std::max(stroke_increment, relative_increment * stroke); }
+  // Steps at the nominal increments (a last short step counts as one).
+  double planned_steps_real() const {
+    if (relative_increment <= 0) return std::ceil(end_stroke / stroke_increment - 1e-9);
+    // Fixed steps up to where the relative increment takes over, then a
+    // geometric series: s_(k+1) = (1 + r) s_k.
+    const double s1 = std::min(end_stroke, stroke_increment / relative_increment);
+    const double fixed = std::ceil(s1 / stroke_increment - 1e-9);
+    if (end_stroke <= fixed * stroke_increment + 1e-12) return fixed;
+    const double from = std::max(fixed * stroke_increment, s1);
+    return fixed + std::ceil(std::log(end_stroke / from) / std::log1p(relative_increment) - 1e-9);
   }
+  int planned_steps() const { return std::max(1, static_cast<int>(std::min(planned_steps_real(), 2e9))); }
 };
 
 // [remesh]: when a run meshes its bodies anew (src/model/remesh.hpp; the

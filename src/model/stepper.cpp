@@ -517,7 +517,7 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
 
 bool Runner::take_step(State& st, Solution& sol, int step) {
   const double end = scene_.stepping.end_stroke;
-  double dt = std::min(derived_.dt_nominal, (end - st.stroke) / derived_.reference_speed);
+  double dt = std::min(scene_.stepping.increment_at(st.stroke), end - st.stroke) / derived_.reference_speed;
   const std::optional<double> lim = contact_.limit_dt(view(st, step, dt), sol.v);
   const bool to_landing = lim && *lim < dt;
   if (to_landing) dt = *lim;
