@@ -1,5 +1,7 @@
 #include "app/linked_blas.hpp"
 
+#include <dlfcn.h>
+
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -20,6 +22,16 @@ std::string linked_blas() {
     return ec ? path : real.string();
   }
   return "unknown";
+}
+
+int set_blas_threads(int threads) {
+  using Set = void (*)(int);
+  using Get = int (*)();
+  const auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  const auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  if (!set || !get) return 1;
+  set(threads);
+  return get();
 }
 
 }  // namespace rpfem

@@ -13,4 +13,10 @@ namespace rpfem {
 // (/proc/self/maps: the first file named lib*blas*), or "unknown".
 std::string linked_blas();
 
+// Sets the BLAS's thread count where the library has one to set
+// (OpenBLAS: openblas_set_num_threads, found in the process at run time,
+// since the library is chosen at load time); returns the count in effect:
+// OpenBLAS's, or 1 for a BLAS without threads (Debian's reference BLAS).
+int set_blas_threads(int threads);
+
 }  // namespace rpfem

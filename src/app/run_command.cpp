@@ -34,6 +34,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
   const std::string label = contact_label(info);
 
   const MeshQuality q = mesh_quality(scene.mesh);
+  const int blas_threads = set_blas_threads(scene.solver.blas_threads);
   toml::table summary{{"case", scene.name},
                       {"case_file", std::filesystem::absolute(opt.case_file).string()},
                       {"variant", variant ? variant->name : std::string()},
@@ -42,6 +43,7 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
                       {"discretization", info.discretization},
                       {"version", kVersion},
                       {"blas", linked_blas()},
+                      {"blas_threads", blas_threads},
                       {"parameters", file.used()}};
   toml::array ov, user_set;
   for (const auto& o : overrides) ov.push_back(o);

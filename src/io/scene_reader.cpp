@@ -377,6 +377,9 @@ SolverSpec read_solver(CaseSection solver) {
   // 0: the machine's cores.
   const int threads = solver.integer("threads", 1, 0, 256);
   out.threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int blas_threads = solver.integer("blas_threads", 1, 0, 256);
+  out.blas_threads =
+      blas_threads > 0 ? blas_threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "umfpack"});
   out.linear_solver = ls == "cholmod"   ? LinearSolverChoice::Cholmod
                       : ls == "umfpack" ? LinearSolverChoice::Umfpack

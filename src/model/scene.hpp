@@ -74,6 +74,13 @@ struct SolverSpec {
   // Threads of the element loops (model/element_loop.hpp); the results do
   // not depend on it, bit for bit.
   int threads = 1;
+  // Threads of the BLAS under the sparse factorizations (OpenBLAS's own
+  // pool; a BLAS without threads ignores it). One by default: with
+  // OpenBLAS the results change with its thread count (upsetting at 60 x 60
+  // differs from the 10th digit between one thread and two), so they would
+  // depend on the machine's cores; and `suite` and `sweep` already run one
+  // job per core.
+  int blas_threads = 1;
 };
 
 enum class TimeIntegration { Euler, Midpoint };

@@ -46,5 +46,17 @@ print("final punch load %.6g N and %.6g N, %.1e apart" % (fa, fb, abs(fa / fb - 
 PY
 rc=$?
 check "both BLAS end at the same load ($(tail -1 "$tmp/compare.log"))" '[ $rc -eq 0 ]'
+# solver.blas_threads: OpenBLAS kept to one thread unless asked (its
+# results change with its thread count), whatever OPENBLAS_NUM_THREADS
+# says; the reference BLAS has no threads to set. summary.json records the
+# count in effect.
+blas_threads() { /usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["blas_threads"])' "$1/summary.json"; }
+small=(run "$src/cases/upsetting_frictionless_axisym.toml" --quiet --set stepping.end_stroke=0.2)
+OPENBLAS_NUM_THREADS=2 LD_LIBRARY_PATH=$openblas "$rpfem" "${small[@]}" --out "$tmp/t_default" > /dev/null 2>&1
+check "OpenBLAS: one thread by default ($(blas_threads "$tmp/t_default"))" '[ "$(blas_threads "$tmp/t_default")" = 1 ]'
+LD_LIBRARY_PATH=$openblas "$rpfem" "${small[@]}" --out "$tmp/t_two" --set solver.blas_threads=2 > /dev/null 2>&1
+check "OpenBLAS: solver.blas_threads=2 gives two ($(blas_threads "$tmp/t_two"))" '[ "$(blas_threads "$tmp/t_two")" = 2 ]'
+LD_LIBRARY_PATH=$reference "$rpfem" "${small[@]}" --out "$tmp/t_ref" --set solver.blas_threads=2 > /dev/null 2>&1
+check "reference BLAS: one thread ($(blas_threads "$tmp/t_ref"))" '[ "$(blas_threads "$tmp/t_ref")" = 1 ]'
 [ $fail -eq 0 ] || { cat "$tmp"/*.log; exit 1; }
-echo "ok: ipopt under both BLAS"
+echo "ok: ipopt under both BLAS; OpenBLAS's threads as solver.blas_threads says"
