@@ -31,8 +31,8 @@ TEST(Stepping, PlannedStepsAreTheSchedulesSteps) {
       }
     }
   }
-  // Test I's schedule: 100 steps of 0.01 mm to 1 mm, then 1 % of the
-  // stroke: 181 more to 6 mm, against 600 fixed steps.
+  // Test I at 1 % of the stroke: 100 steps of 0.01 mm to 1 mm, then 181
+  // more to 6 mm, against 600 fixed steps.
   s.end_stroke = 6.0, s.stroke_increment = 0.01, s.relative_increment = 0.01;
   EXPECT_EQ(walked_steps(s), 281);
   s.relative_increment = 0;
