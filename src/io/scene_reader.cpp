@@ -374,12 +374,13 @@ SolverSpec read_solver(CaseSection solver) {
   nw.direct_iterations = solver.integer("direct_iterations", nw.direct_iterations, 0, 100);
   nw.max_halvings = solver.integer("line_search_halvings", nw.max_halvings, 0, 60);
   nw.secant_after_cut = solver.flag("secant_after_cut", nw.secant_after_cut);
-  // 0: the machine's cores.
-  const int threads = solver.integer("threads", 1, 0, 256);
-  out.threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const int blas_threads = solver.integer("blas_threads", 1, 0, 256);
-  out.blas_threads =
-      blas_threads > 0 ? blas_threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  // A thread count; 0: the machine's cores.
+  const auto threads = [&](const char* key) {
+    const int n = solver.integer(key, 1, 0, 256);
+    return n > 0 ? n : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  };
+  out.threads = threads("threads");
+  out.blas_threads = threads("blas_threads");
   const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "umfpack"});
   out.linear_solver = ls == "cholmod"   ? LinearSolverChoice::Cholmod
                       : ls == "umfpack" ? LinearSolverChoice::Umfpack
