@@ -30,7 +30,8 @@ constexpr const char* kLockName = ".rpfem.lock";
 const std::vector<std::string>& run_files() {
   static const std::vector<std::string> names{
       "result.h5",      "result.xdmf",         "history.csv",      "summary.json",    "events.csv",
-      "result.h5.partial", "result.xdmf.tmp", "history.csv.tmp", "summary.json.tmp", "events.csv.tmp"};
+      "result.h5.partial", "result.h5.spare", "result.h5.previous", "result.xdmf.tmp", "history.csv.tmp",
+      "summary.json.tmp", "events.csv.tmp"};
   return names;
 }
 

@@ -76,22 +76,55 @@ H group(hid_t parent, const std::string& name) {
 
 }  // namespace
 
+// result.h5 and its spare, result.h5.spare: two files of the same content.
+// HDF5 updates a file's metadata in place, so a run killed while a flush
+// reaches the disk can leave a file HDF5 cannot open (and the link storage
+// of /steps is shared by every step: every step is lost). So every change
+// is written into the spare first; once the spare's flush has finished, the
+// two names are exchanged and the change is written into the other file.
+// result.h5 is always a file whose last flush finished.
 struct ResultWriter::Impl {
   std::string dir;
-  hid_t file = -1;
+  hid_t files[2] = {-1, -1};
+  int named = 0;                 // files[named] is result.h5
   std::vector<XdmfMesh> meshes;  // the last one current
   std::string paraview;             // result.xdmf's step grids
   std::vector<std::string> meshio;  // per mesh: its meshio file's step grids
   std::vector<int> step_numbers;
   std::vector<double> times;
   std::vector<std::pair<std::string, Index>> die_points;  // per die written: its polyline's points
-  void write_mesh(const std::string& group, const Mesh& m);
+
+  std::string path(const char* suffix = "") const { return dir + "/result.h5" + suffix; }
+  template <class Write>
+  void commit(const Write& write);
+  void exchange_names() const;
+  XdmfMesh write_mesh(hid_t file, const std::string& group, const Mesh& m) const;
   void write_bodies(hid_t step, const std::string& name, const XdmfStep& s) const;
-  void write_dies(hid_t step, const StepFields& f, XdmfStep& s);
+  void write_dies(hid_t file, hid_t step, const StepFields& f, const std::vector<std::string>& new_dies) const;
   void write_xdmf() const;
 };
 
-void ResultWriter::Impl::write_mesh(const std::string& name, const Mesh& m) {
+template <class Write>
+void ResultWriter::Impl::commit(const Write& write) {
+  for (int pass = 0; pass < 2; ++pass) {
+    const hid_t spare = files[1 - named];
+    write(spare);
+    check(H5Fflush(spare, H5F_SCOPE_GLOBAL), "flush");
+    if (pass == 0) exchange_names(), named = 1 - named;
+  }
+}
+
+// result.h5 <-> result.h5.spare. Each rename replaces its target at once,
+// and the hard link keeps result.h5 naming a whole file in between.
+void ResultWriter::Impl::exchange_names() const {
+  namespace fs = std::filesystem;
+  fs::remove(path(".previous"));
+  fs::create_hard_link(path(), path(".previous"));
+  fs::rename(path(".spare"), path());
+  fs::rename(path(".previous"), path(".spare"));
+}
+
+XdmfMesh ResultWriter::Impl::write_mesh(hid_t file, const std::string& name, const Mesh& m) const {
   H g = group(file, name);
   std::vector<long long> conn;
   for (const auto& q : m.quads)
@@ -126,46 +159,58 @@ void ResultWriter::Impl::write_mesh(const std::string& name, const Mesh& m) {
       set_attr(bg.id, key, static_cast<long long>(v), H5T_NATIVE_LLONG);
     xm.bodies.push_back(xb);
   }
-  meshes.push_back(xm);
+  return xm;
 }
 
 ResultWriter::ResultWriter(const std::string& dir, const Mesh& mesh, const std::string& metadata_json)
     : impl_(std::make_unique<Impl>()) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   std::filesystem::create_directories(dir);
-  impl_->dir = dir;
-  // Created as result.h5.partial and renamed once its mesh and metadata
-  // are on disk: result.h5 is never a file HDF5 cannot open.
-  const std::string path = dir + "/result.h5", partial = path + ".partial";
-  impl_->file = H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (impl_->file < 0) throw std::runtime_error("cannot create " + partial);
-  impl_->write_mesh("/mesh", mesh);
-  {
-    H md = group(impl_->file, "/metadata");
+  Impl& w = *impl_;
+  w.dir = dir;
+  // result.h5 is created as result.h5.partial and renamed once its mesh
+  // and metadata are on disk: result.h5 is never a file HDF5 cannot open.
+  const std::string partial = w.path(".partial");
+  for (int i = 0; i < 2; ++i) {
+    const std::string name = i == 0 ? partial : w.path(".spare");
+    w.files[i] = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (w.files[i] < 0) throw std::runtime_error("cannot create " + name);
+    const XdmfMesh m = w.write_mesh(w.files[i], "/mesh", mesh);
+    if (i == 0) w.meshes.push_back(m);
+    H md = group(w.files[i], "/metadata");
     set_attr_string(md.id, "json", metadata_json);
-    group(impl_->file, "/steps");
+    group(w.files[i], "/steps");
+    check(H5Fflush(w.files[i], H5F_SCOPE_GLOBAL), "flush");
   }
-  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
-  std::filesystem::rename(partial, path);
+  std::filesystem::rename(partial, w.path());
 }
 
+// The spare is removed: a finished run leaves result.h5 alone.
 ResultWriter::~ResultWriter() {
-  if (impl_->file >= 0) H5Fclose(impl_->file);
+  Impl& w = *impl_;
+  if (w.files[1 - w.named] >= 0) H5Fclose(w.files[1 - w.named]);
+  std::error_code ec;
+  std::filesystem::remove(w.path(".spare"), ec);
+  if (w.files[w.named] >= 0) H5Fclose(w.files[w.named]);
 }
 
 int ResultWriter::steps_written() const { return static_cast<int>(impl_->step_numbers.size()); }
 
 void ResultWriter::set_mesh(const Mesh& mesh, int first_step) {
   const std::string name = numbered_group("/meshes", first_step);
-  if (H5Lexists(impl_->file, "/meshes", H5P_DEFAULT) <= 0) group(impl_->file, "/meshes");
-  impl_->write_mesh(name, mesh);
-  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+  XdmfMesh m;
+  impl_->commit([&](hid_t file) {
+    if (H5Lexists(file, "/meshes", H5P_DEFAULT) <= 0) group(file, "/meshes");
+    m = impl_->write_mesh(file, name, mesh);
+  });
+  impl_->meshes.push_back(m);
 }
 
 void ResultWriter::update_metadata(const std::string& json) {
-  H md(H5Gopen2(impl_->file, "/metadata", H5P_DEFAULT), H5Gclose, "/metadata");
-  set_attr_string(md.id, "json", json);
-  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
+  impl_->commit([&](hid_t file) {
+    H md(H5Gopen2(file, "/metadata", H5P_DEFAULT), H5Gclose, "/metadata");
+    set_attr_string(md.id, "json", json);
+  });
 }
 
 // Each body's share of the step's fields, as views of them: bodies/<name>/...
@@ -195,29 +240,27 @@ void ResultWriter::Impl::write_bodies(hid_t step, const std::string& name, const
 }
 
 // The dies' polylines at the step (dies/<name>/coordinates); the segments
-// joining them once per die (/dies/<name>/connectivity).
-void ResultWriter::Impl::write_dies(hid_t step, const StepFields& f, XdmfStep& s) {
+// joining them once per die, with the die's first polyline
+// (/dies/<name>/connectivity).
+void ResultWriter::Impl::write_dies(hid_t file, hid_t step, const StepFields& f,
+                                    const std::vector<std::string>& new_dies) const {
   if (f.dies.empty()) return;
   H dies = group(step, "dies");
   for (const auto& [die, points] : f.dies) {
-    const Index n = static_cast<Index>(points.size());
     H dg = group(dies.id, die);
     write_doubles(dg.id, "coordinates", flatten(points), 2, "mm");
-    s.dies.push_back({die, n});
-    const std::string& name = die;  // a structured binding cannot be captured before C++20's clang 16
-    auto known = std::find_if(die_points.begin(), die_points.end(), [&](const auto& d) { return d.first == name; });
-    if (known != die_points.end()) continue;
+    if (std::find(new_dies.begin(), new_dies.end(), die) == new_dies.end()) continue;
     if (H5Lexists(file, "/dies", H5P_DEFAULT) <= 0) group(file, "/dies");
     H top(H5Gopen2(file, "/dies", H5P_DEFAULT), H5Gclose, "/dies");
     H cg = group(top.id, die);
     std::vector<long long> seg;
-    for (Index i = 0; i + 1 < n; ++i) seg.insert(seg.end(), {i, i + 1});
-    write_array(cg.id, "connectivity", seg.data(), H5T_NATIVE_LLONG, {hsize_t(n - 1), 2}, "1");
-    die_points.push_back({die, n});
+    for (Index i = 0; i + 1 < static_cast<Index>(points.size()); ++i) seg.insert(seg.end(), {i, i + 1});
+    write_array(cg.id, "connectivity", seg.data(), H5T_NATIVE_LLONG, {hsize_t(seg.size() / 2), 2}, "1");
   }
 }
 
 void ResultWriter::write_step(const StepFields& f) {
+  Impl& w = *impl_;
   // Validate everything before writing anything.
   const auto x = flatten(*f.x), v = flatten(*f.v), v3 = flatten(*f.v, 3);
   require_finite(x, "coordinates");
@@ -228,55 +271,69 @@ void ResultWriter::write_step(const StepFields& f) {
   for (const auto& [k, d] : f.node_scalars) require_finite(d, k);
   for (const auto& [k, d] : f.element_scalars) require_finite(d, k);
   for (const auto& [k, d] : f.globals) require_finite({d}, k);
+  std::vector<std::string> new_dies;
   for (const auto& [die, p] : f.dies) {
     require_finite(flatten(p), "die " + die);
     if (p.size() < 2) throw std::logic_error("die '" + die + "': a polyline of fewer than two points");
-    for (const auto& [name, n] : impl_->die_points)
-      if (name == die && n != static_cast<Index>(p.size()))
-        throw std::logic_error("die '" + die + "': its polyline changed its number of points");
+    const std::string& name = die;  // a structured binding cannot be captured before C++20's clang 16
+    auto known = std::find_if(w.die_points.begin(), w.die_points.end(), [&](const auto& d) { return d.first == name; });
+    if (known == w.die_points.end())
+      new_dies.push_back(die);
+    else if (known->second != static_cast<Index>(p.size()))
+      throw std::logic_error("die '" + die + "': its polyline changed its number of points");
   }
   if (!std::isfinite(f.time) || !std::isfinite(f.stroke)) throw std::logic_error("non-finite time or stroke");
-  const XdmfMesh& mesh = impl_->meshes.back();
+  const XdmfMesh& mesh = w.meshes.back();
   if (static_cast<Index>(f.x->size()) != mesh.nodes || static_cast<Index>(f.strain->size()) != mesh.elements)
     throw std::logic_error("a step's fields are not on the current mesh");
 
-  const std::string name = numbered_group("/steps", f.step);
-  H g = group(impl_->file, name);
-  set_attr(g.id, "step", f.step, H5T_NATIVE_INT);
-  set_attr(g.id, "time", f.time, H5T_NATIVE_DOUBLE);
-  set_attr(g.id, "stroke", f.stroke, H5T_NATIVE_DOUBLE);
-  set_attr_string(g.id, "mesh", mesh.group);
-  write_doubles(g.id, "coordinates", x, 2, "mm");
-  write_doubles(g.id, "velocity", v, 2, "mm/s");
-  write_doubles(g.id, "velocity_xyz", v3, 3, "mm/s");
-  write_doubles(g.id, "strain_rate", *f.strain_rate, 1, "1/s");
-  write_doubles(g.id, "strain", *f.strain, 1, "1");
-  write_doubles(g.id, "mean_stress", *f.mean_stress, 1, "MPa");
   XdmfStep s{f.step, f.time, f.stroke, {}, {}, f.globals, {}};
-  if (!f.node_scalars.empty()) {
-    H n = group(g.id, "node");
-    for (const auto& [k, d] : f.node_scalars) write_doubles(n.id, k, d, 1, extra_units(k)), s.node_extra.push_back(k);
-  }
-  if (!f.element_scalars.empty()) {
-    H e = group(g.id, "element");
-    for (const auto& [k, d] : f.element_scalars)
-      write_doubles(e.id, k, d, 1, extra_units(k)), s.element_extra.push_back(k);
-  }
-  impl_->write_bodies(g.id, name, s);
-  impl_->write_dies(g.id, f, s);
-  impl_->paraview += paraview_xdmf(mesh, s);
-  impl_->meshio.resize(impl_->meshes.size());
-  impl_->meshio.back() += meshio_xdmf(mesh, s);
-  impl_->step_numbers.push_back(f.step);
-  impl_->times.push_back(f.time);
-  // The index of recorded steps and their times, rewritten each step.
-  H steps(H5Gopen2(impl_->file, "/steps", H5P_DEFAULT), H5Gclose, "/steps");
-  for (const char* n : {"index", "time"})
-    if (H5Lexists(steps.id, n, H5P_DEFAULT) > 0) check(H5Ldelete(steps.id, n, H5P_DEFAULT), "delete index");
-  write_array(steps.id, "index", impl_->step_numbers.data(), H5T_NATIVE_INT, {impl_->step_numbers.size()}, "1");
-  write_doubles(steps.id, "time", impl_->times, 1, "s");
-  check(H5Fflush(impl_->file, H5F_SCOPE_GLOBAL), "flush");
-  impl_->write_xdmf();
+  for (const auto& [k, d] : f.node_scalars) s.node_extra.push_back(k);
+  for (const auto& [k, d] : f.element_scalars) s.element_extra.push_back(k);
+  for (const auto& [die, p] : f.dies) s.dies.push_back({die, static_cast<Index>(p.size())});
+  std::vector<int> numbers = w.step_numbers;
+  std::vector<double> times = w.times;
+  numbers.push_back(f.step);
+  times.push_back(f.time);
+  const std::string name = numbered_group("/steps", f.step);
+  w.commit([&](hid_t file) {
+    H g = group(file, name);
+    set_attr(g.id, "step", f.step, H5T_NATIVE_INT);
+    set_attr(g.id, "time", f.time, H5T_NATIVE_DOUBLE);
+    set_attr(g.id, "stroke", f.stroke, H5T_NATIVE_DOUBLE);
+    set_attr_string(g.id, "mesh", mesh.group);
+    write_doubles(g.id, "coordinates", x, 2, "mm");
+    write_doubles(g.id, "velocity", v, 2, "mm/s");
+    write_doubles(g.id, "velocity_xyz", v3, 3, "mm/s");
+    write_doubles(g.id, "strain_rate", *f.strain_rate, 1, "1/s");
+    write_doubles(g.id, "strain", *f.strain, 1, "1");
+    write_doubles(g.id, "mean_stress", *f.mean_stress, 1, "MPa");
+    if (!f.node_scalars.empty()) {
+      H n = group(g.id, "node");
+      for (const auto& [k, d] : f.node_scalars) write_doubles(n.id, k, d, 1, extra_units(k));
+    }
+    if (!f.element_scalars.empty()) {
+      H e = group(g.id, "element");
+      for (const auto& [k, d] : f.element_scalars) write_doubles(e.id, k, d, 1, extra_units(k));
+    }
+    w.write_bodies(g.id, name, s);
+    w.write_dies(file, g.id, f, new_dies);
+    // The index of recorded steps and their times, rewritten each step.
+    H steps(H5Gopen2(file, "/steps", H5P_DEFAULT), H5Gclose, "/steps");
+    for (const char* n : {"index", "time"})
+      if (H5Lexists(steps.id, n, H5P_DEFAULT) > 0) check(H5Ldelete(steps.id, n, H5P_DEFAULT), "delete index");
+    write_array(steps.id, "index", numbers.data(), H5T_NATIVE_INT, {numbers.size()}, "1");
+    write_doubles(steps.id, "time", times, 1, "s");
+  });
+  for (const auto& [die, p] : f.dies)
+    if (std::find(new_dies.begin(), new_dies.end(), die) != new_dies.end())
+      w.die_points.push_back({die, static_cast<Index>(p.size())});
+  w.step_numbers = std::move(numbers);
+  w.times = std::move(times);
+  w.paraview += paraview_xdmf(mesh, s);
+  w.meshio.resize(w.meshes.size());
+  w.meshio.back() += meshio_xdmf(mesh, s);
+  w.write_xdmf();
 }
 
 // result.xdmf whole, and the meshio file of the current mesh (the earlier

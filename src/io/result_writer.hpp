@@ -1,8 +1,10 @@
 // Writes a run's results as it goes: DIR/result.h5 (HDF5), DIR/result.xdmf
 // (so ParaView opens the time series: a block per body and per die),
 // DIR/result_meshio*.xdmf (for meshio) and DIR/history.csv. Every finished
-// step is flushed to disk before write_step returns, so a killed run keeps
-// every finished step. Layout: docs/results-format.md.
+// step is flushed to disk before write_step returns, and result.h5 is
+// always a file whose last flush finished (each change goes to a spare
+// copy first, and the names are exchanged), so a killed run keeps every
+// finished step. Layout: docs/results-format.md.
 #pragma once
 #include <map>
 #include <memory>

@@ -48,7 +48,12 @@ TEST(ResultWriter, WritesStepsAndRefusesNaN) {
     f.mean_stress = &sm;
     EXPECT_THROW(w.write_step(f), std::logic_error);
     EXPECT_EQ(w.steps_written(), 2);
+    // The spare copy that each step is written into first (so result.h5 is
+    // always a file whose last flush finished), and no link left between.
+    EXPECT_TRUE(std::filesystem::exists(dir + "/result.h5.spare"));
+    EXPECT_FALSE(std::filesystem::exists(dir + "/result.h5.previous"));
   }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/result.h5.spare")) << "a finished writer removes its spare";
   const std::string h5 = dir + "/result.h5";
   EXPECT_EQ(read_h5_steps(h5), (std::vector<int>{0, 1}));  // the refused step left nothing
   std::vector<unsigned long long> shape;
