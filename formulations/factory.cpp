@@ -109,6 +109,8 @@ std::unique_ptr<ContactFormulation> make_contact(CaseFile& file, const Scene& sc
   CaseSection contact = file.root().section("contact");
   ContactModelSettings settings;
   settings.landing_control = contact.flag("landing_control", true);
+  settings.landing_overshoot =
+      contact.real("landing_overshoot", 0.0, Range::nonnegative(), "of the local element size (0: off)");
   // The keys of the discretizations this run does not use are known.
   for (const auto& d : discretizations())
     if (name == "none" || d.name != choice.discretization)

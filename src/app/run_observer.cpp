@@ -233,10 +233,10 @@ void RunObserver::on_resumed(const StepRecord& r) {
 }
 
 void RunObserver::on_retry(int step, double dt, const std::string& why) {
-  if (!quiet_) std::printf("  step %5d  retry with dt %.3g s: %s\n", step, 0.5 * dt, why.c_str());
+  if (!quiet_) std::printf("  step %5d  retry with dt %.3g s: %s\n", step, dt, why.c_str());
   // The log keeps every failed attempt's reason (a run slowed by halvings
   // says why).
-  std::ofstream(events_path_, std::ios::app) << step << "," << last_.time << ",retry with dt " << 0.5 * dt
+  std::ofstream(events_path_, std::ios::app) << step << "," << last_.time << ",retry with dt " << dt
                                              << " s: " << why << "\n";
 }
 

@@ -74,6 +74,7 @@ ContactInfo ContactModel::info() const {
   for (const auto& c : cols) i.column_names.push_back(c.name);
   enf_->derived(i.derived);
   i.derived.push_back({"contact.landing_control", settings_.landing_control ? 1.0 : 0.0});
+  i.derived.push_back({"contact.landing_overshoot", settings_.landing_overshoot});
   return i;
 }
 
@@ -217,6 +218,38 @@ std::optional<double> ContactModel::limit_dt(const StepView& v, const std::vecto
     if (!limit || t < *limit) limit = t;
   }
   return limit;
+}
+
+void ContactModel::remember_start_gaps() {
+  start_gaps_.clear();
+  if (!(settings_.landing_overshoot > 0)) return;
+  for (const ContactRow& r : rows_) start_gaps_[{r.iface, r.key}] = r.kin.gap0;
+}
+
+std::optional<double> ContactModel::overshoot() const {
+  // Landing control predicts a landing from the closing rate at the step's
+  // start, and an enforcement holds a row at its gap linearized over the
+  // step (g_from + dt gamma_N). A row whose gap closes faster than that
+  // over the step (a sphere's surface rolling onto its master; a mortar
+  // row at the contact zone's rim, whose weighted gap changes as the
+  // master comes to cover its support) ends deeper than either saw. A row
+  // that ends the step deeper than it started and deeper than the
+  // tolerance tau h has the step shortened: a row open at the start
+  // (g0 > 0) to where its gap, interpolated between g0 and the end's g1,
+  // reaches -tau h / 2, (g0 + tau h / 2) / (g0 - g1), just past its
+  // landing; a row in contact, whose end gap is the linearization's error
+  // (of the order of dt), by tau h / 2 / (-g1).
+  std::optional<double> first;
+  for (const ContactRow& r : rows_) {
+    const double tol = settings_.landing_overshoot * r.h, g1 = r.kin.gap0;
+    if (!(g1 < -tol)) continue;
+    const auto it = start_gaps_.find({r.iface, r.key});
+    if (it == start_gaps_.end() || !(g1 < it->second)) continue;
+    const double g0 = it->second;
+    const double t = g0 > 0 ? (g0 + 0.5 * tol) / (g0 - g1) : 0.5 * tol / -g1;
+    if (!first || t < *first) first = t;
+  }
+  return first;
 }
 
 double ContactModel::place_on_surfaces(const StepView& v, std::vector<Vec2>& x) {

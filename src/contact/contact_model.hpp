@@ -23,6 +23,10 @@ struct Scene;
 
 struct ContactModelSettings {
   bool landing_control = true;  // contact.landing_control
+  // contact.landing_overshoot: the depth, over the local element size, a
+  // row may end a step at beyond where it started and beyond contact;
+  // deeper, the step is redone shorter (ContactModel::overshoot). 0: off.
+  double landing_overshoot = 0;
 };
 
 class ContactModel final : public ContactFormulation {
@@ -44,6 +48,8 @@ class ContactModel final : public ContactFormulation {
   StepSolver* solver() override { return enf_->solver(); }
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
   std::optional<double> limit_dt(const StepView& v, const std::vector<Vec2>& vel) const override;
+  void remember_start_gaps() override;
+  std::optional<double> overshoot() const override;
   double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
   void end_step(const StepView& v, const std::vector<Vec2>& vel) override;
   ContactZones contact_zones(const std::vector<Vec2>& x) const override;
@@ -76,6 +82,8 @@ class ContactModel final : public ContactFormulation {
   // master), per interface: the band an instantaneous solve counts their
   // rows touching in.
   std::set<std::pair<int, Index>> touching_;
+  // Each row's gap at the step's start (mm), with contact.landing_overshoot.
+  std::map<std::pair<int, Index>, double> start_gaps_;
   std::vector<int> friction_dies_;  // dies with friction: their neutral point is reported
   bool any_bodies_ = false;
   double sym_tol_ = 0;

@@ -176,6 +176,13 @@ class ContactFormulation {
   // Largest step (s) before the motion v lands a free node on its master;
   // the stepper shortens the step to it.
   virtual std::optional<double> limit_dt(const StepView&, const std::vector<Vec2>& v) const { return std::nullopt; }
+  // Landing control's correction from the step's end. Before a step's
+  // attempts: the rows' gaps now are remembered. After an attempt's end
+  // solve (its rows at the end configuration): the fraction of the attempt
+  // to redo the step with, where a row ended deeper than the treatment's
+  // tolerance allows (ContactModel::overshoot). nullopt: none did.
+  virtual void remember_start_gaps() {}
+  virtual std::optional<double> overshoot() const { return std::nullopt; }
   // After the nodes moved to x (the configuration at view.time + view.dt):
   // nodes held on curved die surfaces are placed back on them (ALPID's
   // correction); returns the largest move (mm).

@@ -60,6 +60,11 @@ constexpr double kFloorWarning = 10;
 // and 1e5 N later.
 constexpr double kForceFloor = 1e-3;
 
+// How often a step is redone to a landing found at its end
+// (ContactFormulation::overshoot): a secant is exact for a constant closing
+// rate, so a second redo is the rare row whose rate changes within the step.
+constexpr int kLandingRedos = 3;
+
 struct State {
   std::vector<Vec2> x;
   std::vector<std::array<double, 4>> strain;  // at the 2x2 points
@@ -522,7 +527,9 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   const bool to_landing = lim && *lim < dt;
   if (to_landing) dt = *lim;
   Attempt a;
-  int cuts = 0;
+  int cuts = 0, redone = 0;
+  bool landed = to_landing;
+  contact_.remember_start_gaps();
   for (;; ++cuts) {
     a = Attempt{};
     std::string why = attempt(st, sol, step, dt, a);
@@ -530,6 +537,19 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     // failed where the run remeshes.
     const bool poor = why.empty() && scene_.remesh.enabled && a.quality < scene_.remesh.reject_below;
     if (poor) why = "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below";
+    // A row that ended the step deeper than its enforcement saw: the step
+    // redone shorter (to a landing, for a row open at the start), a few
+    // times at most, not counted as a halving. A fraction below the
+    // smallest step a halving would leave is not taken.
+    if (why.empty() && redone < kLandingRedos) {
+      const std::optional<double> t = contact_.overshoot();
+      if (t && *t * dt > std::ldexp(dt, -scene_.stepping.max_cuts)) {
+        ++redone, --cuts, landed = true;
+        obs_.on_retry(step, *t * dt, "a contact row ends the step too deep; redone to " + sci(*t) + " of it");
+        dt *= *t;
+        continue;
+      }
+    }
     if (why.empty()) break;
     if (scene_.remesh.enabled && (a.inverted || poor) && step > segment_first_step_ + 1) {
       // Remesh the last configuration rather than creep up to the fold.
@@ -545,8 +565,9 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
                     (a.factorized ? conditioning_note(a.rcond, a.stalled) : std::string());
       return false;
     }
-    obs_.on_retry(step, dt, why);
+    obs_.on_retry(step, 0.5 * dt, why);
     dt *= 0.5;
+    landed = false;  // a halved step ends short of the landing
   }
   contact_.end_step(view(st, step, dt), a.moved_by);
   st = std::move(a.next);
@@ -555,8 +576,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   out_.total_newton_iterations += sol.iterations;
   out_.total_cuts += cuts;
   out_.steps = step;
-  // A halved step ends short of the landing.
-  record(st, sol, step, dt, cuts, a.quality, false, to_landing && cuts == 0);
+  record(st, sol, step, dt, cuts, a.quality, false, landed);
   last_dt_ = dt;
   // Remesh triggers (not at the end of the stroke).
   const RemeshSpec& rm = scene_.remesh;

@@ -63,6 +63,7 @@ class StepObserver {
   virtual void on_start(const DerivedParameters&, const std::vector<std::string>& load_names,
                         const std::vector<std::string>& report_names) {}
   virtual void on_step(const StepRecord&) = 0;
+  // A step tried again with dt (s): why the last attempt was not kept.
   virtual void on_retry(int step, double dt, const std::string& why) {}
   // A resumed run's first solve, at the configuration it resumes from (the
   // step on record already, after a remesh on its old mesh): not a step.
