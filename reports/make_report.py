@@ -29,6 +29,7 @@ directory, which Python puts first on sys.path).
 """
 import html
 import json
+import multiprocessing
 import os
 import sys
 
@@ -67,6 +68,29 @@ def scene_figures(out, sc, rs):
         imgs_html += h
         imgs_md += m
     return imgs_html, imgs_md
+
+
+# The scenes' figures are drawn in forked workers (the drawing is most of
+# the report's time: 30 s on one core for the full suite): each worker
+# finds the report's folder and the scenes' runs here, set before the fork.
+_FORKED = {}
+
+
+def _scene_figures_of(i):
+    sc, rs = _FORKED["scenes"][i]
+    return scene_figures(_FORKED["out"], sc, rs)
+
+
+def all_scene_figures(out, scenes, runs):
+    """scene_figures of every scene, in order, over the machine's cores
+    (one process where fork is not available)."""
+    jobs = [(sc, [r for r in runs if r["case"] == sc]) for sc in scenes]
+    workers = min(len(jobs), len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1)
+    if workers < 2 or "fork" not in multiprocessing.get_all_start_methods():
+        return [scene_figures(out, sc, rs) for sc, rs in jobs]
+    _FORKED.update(out=out, scenes=jobs)
+    with multiprocessing.get_context("fork").Pool(workers) as pool:
+        return pool.map(_scene_figures_of, range(len(jobs)), chunksize=1)
 
 
 def run_row(r):
@@ -127,7 +151,8 @@ def main(out):
             scenes.append(r["case"])
     os.makedirs(os.path.join(out, "report_files"), exist_ok=True)
     summary_rows, sections_html, sections_md, flags = [], [], [], {}
-    for sc in scenes:
+    figures = all_scene_figures(out, scenes, runs)
+    for sc, (imgs_html, imgs_md) in zip(scenes, figures):
         rs = [r for r in runs if r["case"] == sc]
         base = [r for r in rs if not r["variant"]]
         ref = reference_run(base)
@@ -136,7 +161,6 @@ def main(out):
             summary_rows.append([sc, r["formulation"], ref["formulation"] if ref and r is not ref else "-"]
                                 + ["%.2e" % x if x == x else "-" for x in diffs]
                                 + ["%.1f" % r["wall_time_s"], r["summary"].get("status", "missing")])
-        imgs_html, imgs_md = scene_figures(out, sc, rs)
         lines = scene_flags(rs, ref)
         flags[sc] = len(lines)
         fh, fm = flags_block(lines)

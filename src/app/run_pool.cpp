@@ -135,8 +135,12 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
   for (std::size_t i = 0; i < runs.size(); ++i)
     if (runs[i].rc == 0) kept[i] = 1, slots[i].ended = true, ++done;
   const int kept_count = done;
+  std::vector<std::size_t> order(runs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return runs[a].cost > runs[b].cost; });
   auto work = [&] {
-    for (std::size_t i; (i = next++) < runs.size();) {
+    for (std::size_t n; (n = next++) < runs.size();) {
+      const std::size_t i = order[n];
       if (kept[i]) continue;
       {
         std::lock_guard<std::mutex> lock(print);

@@ -5,6 +5,7 @@
 // history.csv) and the pool's estimated time left.
 #pragma once
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -17,13 +18,27 @@ struct PoolRun {
   std::vector<std::string> overrides;  // --set, in order
   double end_stroke = 0;  // mm, for progress
   int steps = 0;          // steps planned at the case's stroke increment
+  // What the run is expected to cost, relative to the pool's other runs
+  // (estimated_cost): the pool starts the costliest first.
+  double cost = 0;
   // Filled by run_pool:
   int rc = -1;            // the run's exit code (-1: killed by a signal)
   double seconds = 0;     // wall time
 };
 
-// Runs whose rc is 0 on entry (finished before, resumed) are not run.
+// Runs whose rc is 0 on entry (finished before, resumed) are not run. The
+// others start in the order of their cost, the costliest first (longest
+// processing time first: a long run started last would keep one worker
+// busy alone at the end); runs of equal cost in their order.
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet);
+
+// A run's cost for the pool's order: its planned steps times its elements
+// to the power 1.5 (a sparse factorization of a 2D mesh of n elements
+// takes of the order of n^1.5 operations, Newton's iterations a step
+// about the same at every size).
+inline double estimated_cost(int planned_steps, long elements) {
+  return planned_steps * std::pow(static_cast<double>(elements), 1.5);
+}
 
 // Where a run of a pool or an array is: queued, running since start, ended.
 struct RunClock {

@@ -90,6 +90,7 @@ std::vector<Job> plan(const SuiteOptions& opt) {
         j.case_name = name, j.case_file = path.string(), j.formulation = f, j.variant = variant, j.dir = d;
         j.overrides = opt.overrides;
         j.end_stroke = st.end_stroke, j.steps = st.planned_steps();
+        j.cost = estimated_cost(j.steps, scene.mesh.num_elements());
         jobs.push_back(j);
       };
       add("", dir);

@@ -77,6 +77,7 @@ void plan_run(PoolRun& r, const Study& st) {
   }
   r.end_stroke = pc.scene->stepping.end_stroke;
   r.steps = pc.scene->stepping.planned_steps();
+  r.cost = estimated_cost(r.steps, pc.scene->mesh.num_elements());
 }
 
 History history_or_empty(const std::string& dir) {

@@ -60,9 +60,10 @@ constexpr double kFloorWarning = 10;
 // and 1e5 N later.
 constexpr double kForceFloor = 1e-3;
 
-// How often a step is redone to a landing found at its end
-// (ContactFormulation::overshoot): a secant is exact for a constant closing
-// rate, so a second redo is the rare row whose rate changes within the step.
+// How often a step is redone shorter for a contact row that ended it too
+// deep (ContactFormulation::overshoot). The fraction is exact for a gap
+// closing at a constant rate; a second redo is a row whose rate changes
+// within the step.
 constexpr int kLandingRedos = 3;
 
 struct State {
@@ -530,7 +531,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   int cuts = 0, redone = 0;
   bool landed = to_landing;
   contact_.remember_start_gaps();
-  for (;; ++cuts) {
+  for (;;) {
     a = Attempt{};
     std::string why = attempt(st, sol, step, dt, a);
     // A step that takes the least scaled Jacobian below the floor counts as
@@ -544,7 +545,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     if (why.empty() && redone < kLandingRedos) {
       const std::optional<double> t = contact_.overshoot();
       if (t && *t * dt > std::ldexp(dt, -scene_.stepping.max_cuts)) {
-        ++redone, --cuts, landed = true;
+        ++redone, landed = true;
         obs_.on_retry(step, *t * dt, "a contact row ends the step too deep; redone to " + sci(*t) + " of it");
         dt *= *t;
         continue;
@@ -567,6 +568,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     }
     obs_.on_retry(step, 0.5 * dt, why);
     dt *= 0.5;
+    ++cuts;
     landed = false;  // a halved step ends short of the landing
   }
   contact_.end_step(view(st, step, dt), a.moved_by);

@@ -49,6 +49,22 @@ ok &= w["usable"] == [1.0, 1e4] and abs(w["decades"] - 4) < 1e-12
 print("ok   table values (penetration %s, load error %s, window %s)" % (pen, err, w["usable"]) if ok else "FAIL table values")
 sys.exit(0 if ok else 1)
 PY
+# The pool starts the costliest run first (planned steps times elements to
+# the 1.5): on one worker the finer mesh, listed last, finishes first.
+cat > "$tmp/order.toml" <<TOML
+[study]
+description = "the pool's order"
+case = "upsetting_dies_frictionless_axisym"
+formulation = "penalty"
+load = "top_die.Fy"
+set = ["stepping.end_stroke=0.2"]
+[[study.axis]]
+key = "run.mesh_factor"
+values = [0.25, 0.5]
+TOML
+"$rpfem" sweep "$tmp/order.toml" --out "$tmp/order" --jobs 1 > "$tmp/order.log" 2>&1
+first=$(grep -m1 '^\[1/2\]' "$tmp/order.log")
+check "costliest first ($first)" 'printf "%s" "$first" | grep -q "mesh_factor=0.5:"'
 "$rpfem" sweep "$tmp/study.toml" --out "$tmp/quick" --quick --quiet
 check "--quick takes the quick values" '[ "$(wc -l < "$tmp/quick/sweep.csv")" -eq 3 ]'
 sed 's/^kind = "formulation"/kind = "formulations"/' "$tmp/study.toml" > "$tmp/bad.toml"
