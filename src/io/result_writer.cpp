@@ -115,11 +115,16 @@ void ResultWriter::Impl::commit(const Write& write) {
 }
 
 // result.h5 <-> result.h5.spare. Each rename replaces its target at once,
-// and the hard link keeps result.h5 naming a whole file in between.
+// and the hard link keeps result.h5 naming a whole file in between. On a
+// file system without hard links result.h5 is renamed away first: between
+// two renames it is missing (and a kill there leaves it as
+// result.h5.previous, a whole file).
 void ResultWriter::Impl::exchange_names() const {
   namespace fs = std::filesystem;
   fs::remove(path(".previous"));
-  fs::create_hard_link(path(), path(".previous"));
+  std::error_code no_link;
+  fs::create_hard_link(path(), path(".previous"), no_link);
+  if (no_link) fs::rename(path(), path(".previous"));
   fs::rename(path(".spare"), path());
   fs::rename(path(".previous"), path(".spare"));
 }
