@@ -1,12 +1,14 @@
 // The node-to-segment discretization (formulations/node_to_segment): the
 // rows against a flat die, their contact areas and sticking bounds k w
 // over the edges in contact; and the rows an instantaneous solve leaves
-// out (contact/contact_model.hpp), with and without landing control.
+// out (contact/contact_model.hpp), with and without landing control; and
+// the fraction of a step to redo for a row that ended it too deep.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "io/case_file.hpp"
@@ -186,4 +188,66 @@ TEST(ContactModel, RowsInContactKeepTheDriftBand) {
   for (const RowResult& res : model.enforcement().results()) EXPECT_TRUE(res.in_contact);
   contact->begin_step(lowered);
   for (const ContactRow& r : model.rows()) EXPECT_FALSE(r.free);
+}
+
+namespace {
+
+// The cylinder's model under penalty with contact.landing_overshoot = tau,
+// its rows' gaps remembered at the die height `start` (the top nodes at
+// y = 10), then its rows with the top nodes raised by `rise` mm: what
+// overshoot() returns, and the top rows' h and start gap.
+struct Overshoot {
+  std::optional<double> t;
+  double h = 0, g0 = 0, g1 = 0;
+};
+
+Overshoot overshoot_after(const std::string& start, double rise, double tau) {
+  CaseFile file(unit::write_temp("nts_overshoot_" + std::to_string(getpid()) + ".toml", die_at(start)),
+                {"run.formulation=penalty", "contact.landing_overshoot=" + std::to_string(tau)});
+  const Scene scene = read_scene(file);
+  const auto contact = make_contact(file, scene);
+  const auto& model = dynamic_cast<const ContactModel&>(*contact);
+  std::vector<double> flow;
+  const StepView v = unit::initial_view(scene, flow);
+  contact->begin_step(v);
+  Overshoot o;
+  o.g0 = model.rows().at(0).kin.gap0;
+  contact->remember_start_gaps();
+  std::vector<Vec2> x = scene.mesh.x;
+  for (Vec2& p : x)
+    if (p(1) > 9.999) p(1) += rise;
+  StepView end = v;
+  end.x = end.x_from = &x;
+  end.moves = false;
+  contact->begin_step(end);
+  o.h = model.rows().at(0).h, o.g1 = model.rows().at(0).kin.gap0;
+  o.t = contact->overshoot();
+  return o;
+}
+
+}  // namespace
+
+TEST(ContactModel, OvershootIsTheFractionOfTheStepToRedo) {
+  // A row open at the start (gap 0.5 mm) that ends 2e-3 mm deep, beyond
+  // tau h: the step is redone to where its interpolated gap reaches
+  // -tau h / 2, (g0 + tau h / 2) / (g0 - g1).
+  const double tau = 1e-3;
+  Overshoot o = overshoot_after("10.5", 0.502, tau);
+  EXPECT_NEAR(o.g0, 0.5, 1e-12);
+  EXPECT_NEAR(o.g1, -0.002, 1e-12);
+  ASSERT_TRUE(o.t.has_value());
+  EXPECT_NEAR(*o.t, (o.g0 + 0.5 * tau * o.h) / (o.g0 - o.g1), 1e-12);
+  // Within tau h of the die at the end: nothing to redo.
+  EXPECT_FALSE(overshoot_after("10.5", 0.5 + 0.5 * tau * o.h, tau).t.has_value());
+  // A row touching at the start that ends 4e-3 mm deep: its end gap taken
+  // as the step's linearization error, the step shortened by tau h / 2 /
+  // (-g1).
+  o = overshoot_after("10.00", 0.004, tau);  // (die_at cannot put back "10.0")
+  EXPECT_NEAR(o.g0, 0.0, 1e-12);
+  ASSERT_TRUE(o.t.has_value());
+  EXPECT_NEAR(*o.t, 0.5 * tau * o.h / 0.004, 1e-12);
+  // A row that starts deeper than it ends: the enforcement pulls it back.
+  EXPECT_FALSE(overshoot_after("9.997", -0.001, tau).t.has_value());  // -0.003 -> -0.002 mm
+  // The key at 0: off.
+  EXPECT_FALSE(overshoot_after("10.5", 0.6, 0.0).t.has_value());
 }
