@@ -81,10 +81,9 @@ def _scene_figures_of(i):
     return scene_figures(_FORKED["out"], sc, rs)
 
 
-def all_scene_figures(out, scenes, runs):
-    """scene_figures of every scene, in order, over the machine's cores
-    (one process where fork is not available)."""
-    jobs = [(sc, [r for r in runs if r["case"] == sc]) for sc in scenes]
+def all_scene_figures(out, jobs):
+    """scene_figures of every (scene, its runs) in jobs, in order, over the
+    machine's cores (one process where fork is not available)."""
     workers = min(len(jobs), len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1)
     if workers < 2 or "fork" not in multiprocessing.get_all_start_methods():
         return [scene_figures(out, sc, rs) for sc, rs in jobs]
@@ -151,9 +150,8 @@ def main(out):
             scenes.append(r["case"])
     os.makedirs(os.path.join(out, "report_files"), exist_ok=True)
     summary_rows, sections_html, sections_md, flags = [], [], [], {}
-    figures = all_scene_figures(out, scenes, runs)
-    for sc, (imgs_html, imgs_md) in zip(scenes, figures):
-        rs = [r for r in runs if r["case"] == sc]
+    by_scene = [(sc, [r for r in runs if r["case"] == sc]) for sc in scenes]
+    for (sc, rs), (imgs_html, imgs_md) in zip(by_scene, all_scene_figures(out, by_scene)):
         base = [r for r in rs if not r["variant"]]
         ref = reference_run(base)
         for r in base:

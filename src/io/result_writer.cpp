@@ -100,7 +100,8 @@ struct ResultWriter::Impl {
   void exchange_names() const;
   XdmfMesh write_mesh(hid_t file, const std::string& group, const Mesh& m) const;
   void write_bodies(hid_t step, const std::string& name, const XdmfStep& s) const;
-  void write_dies(hid_t file, hid_t step, const StepFields& f, const std::vector<std::string>& new_dies) const;
+  void write_dies(hid_t file, hid_t step, const StepFields& f,
+                  const std::vector<std::pair<std::string, Index>>& new_dies) const;
   void write_xdmf() const;
 };
 
@@ -248,13 +249,14 @@ void ResultWriter::Impl::write_bodies(hid_t step, const std::string& name, const
 // joining them once per die, with the die's first polyline
 // (/dies/<name>/connectivity).
 void ResultWriter::Impl::write_dies(hid_t file, hid_t step, const StepFields& f,
-                                    const std::vector<std::string>& new_dies) const {
+                                    const std::vector<std::pair<std::string, Index>>& new_dies) const {
   if (f.dies.empty()) return;
   H dies = group(step, "dies");
   for (const auto& [die, points] : f.dies) {
     H dg = group(dies.id, die);
     write_doubles(dg.id, "coordinates", flatten(points), 2, "mm");
-    if (std::find(new_dies.begin(), new_dies.end(), die) == new_dies.end()) continue;
+    const std::string& name = die;  // a structured binding cannot be captured before C++20's clang 16
+    if (std::none_of(new_dies.begin(), new_dies.end(), [&](const auto& d) { return d.first == name; })) continue;
     if (H5Lexists(file, "/dies", H5P_DEFAULT) <= 0) group(file, "/dies");
     H top(H5Gopen2(file, "/dies", H5P_DEFAULT), H5Gclose, "/dies");
     H cg = group(top.id, die);
@@ -276,14 +278,14 @@ void ResultWriter::write_step(const StepFields& f) {
   for (const auto& [k, d] : f.node_scalars) require_finite(d, k);
   for (const auto& [k, d] : f.element_scalars) require_finite(d, k);
   for (const auto& [k, d] : f.globals) require_finite({d}, k);
-  std::vector<std::string> new_dies;
+  std::vector<std::pair<std::string, Index>> new_dies;  // dies first seen here, their points
   for (const auto& [die, p] : f.dies) {
     require_finite(flatten(p), "die " + die);
     if (p.size() < 2) throw std::logic_error("die '" + die + "': a polyline of fewer than two points");
     const std::string& name = die;  // a structured binding cannot be captured before C++20's clang 16
     auto known = std::find_if(w.die_points.begin(), w.die_points.end(), [&](const auto& d) { return d.first == name; });
     if (known == w.die_points.end())
-      new_dies.push_back(die);
+      new_dies.push_back({die, static_cast<Index>(p.size())});
     else if (known->second != static_cast<Index>(p.size()))
       throw std::logic_error("die '" + die + "': its polyline changed its number of points");
   }
@@ -296,10 +298,9 @@ void ResultWriter::write_step(const StepFields& f) {
   for (const auto& [k, d] : f.node_scalars) s.node_extra.push_back(k);
   for (const auto& [k, d] : f.element_scalars) s.element_extra.push_back(k);
   for (const auto& [die, p] : f.dies) s.dies.push_back({die, static_cast<Index>(p.size())});
-  std::vector<int> numbers = w.step_numbers;
-  std::vector<double> times = w.times;
-  numbers.push_back(f.step);
-  times.push_back(f.time);
+  // The index of recorded steps and their times (a failed write ends the run).
+  w.step_numbers.push_back(f.step);
+  w.times.push_back(f.time);
   const std::string name = numbered_group("/steps", f.step);
   w.commit([&](hid_t file) {
     H g = group(file, name);
@@ -327,14 +328,10 @@ void ResultWriter::write_step(const StepFields& f) {
     H steps(H5Gopen2(file, "/steps", H5P_DEFAULT), H5Gclose, "/steps");
     for (const char* n : {"index", "time"})
       if (H5Lexists(steps.id, n, H5P_DEFAULT) > 0) check(H5Ldelete(steps.id, n, H5P_DEFAULT), "delete index");
-    write_array(steps.id, "index", numbers.data(), H5T_NATIVE_INT, {numbers.size()}, "1");
-    write_doubles(steps.id, "time", times, 1, "s");
+    write_array(steps.id, "index", w.step_numbers.data(), H5T_NATIVE_INT, {w.step_numbers.size()}, "1");
+    write_doubles(steps.id, "time", w.times, 1, "s");
   });
-  for (const auto& [die, p] : f.dies)
-    if (std::find(new_dies.begin(), new_dies.end(), die) != new_dies.end())
-      w.die_points.push_back({die, static_cast<Index>(p.size())});
-  w.step_numbers = std::move(numbers);
-  w.times = std::move(times);
+  w.die_points.insert(w.die_points.end(), new_dies.begin(), new_dies.end());
   w.paraview += paraview_xdmf(mesh, s);
   w.meshio.resize(w.meshes.size());
   w.meshio.back() += meshio_xdmf(mesh, s);

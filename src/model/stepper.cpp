@@ -544,7 +544,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     // smallest step a halving would leave is not taken.
     if (why.empty() && redone < kLandingRedos) {
       const std::optional<double> t = contact_.overshoot();
-      if (t && *t * dt > std::ldexp(dt, -scene_.stepping.max_cuts)) {
+      if (t && *t > std::ldexp(1.0, -scene_.stepping.max_cuts)) {
         ++redone, landed = true;
         obs_.on_retry(step, *t * dt, "a contact row ends the step too deep; redone to " + sci(*t) + " of it");
         dt *= *t;
