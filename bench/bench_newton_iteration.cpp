@@ -8,8 +8,12 @@
 // numeric factorization + solve of the same matrix (symbolic analysis
 // reused, as in the runs). BM_NewtonIteration: what newton_solve does per
 // iteration: tangent, factorization, solve, and one line-search trial
-// (residual and energy, from one element pass). Counter peak_rss_MB: the process's peak memory.
+// (residual and energy, from one element pass). BM_Cholmod*: CHOLMOD's
+// supernodal and simplicial factorizations; BM_Umfpack, BM_Klu*: the LU
+// factorizations. Counter peak_rss_MB: the process's peak memory.
 #include <Eigen/CholmodSupport>
+#include <Eigen/KLUSupport>
+#include <Eigen/UmfPackSupport>
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
@@ -17,6 +21,7 @@
 #include <map>
 #include <memory>
 
+#include "la/klu_lu.hpp"
 #include "mesh/generate.hpp"
 #include "model/step_problem.hpp"
 #include "none/no_contact.hpp"
@@ -144,8 +149,10 @@ void BM_NewtonIteration(benchmark::State& state) {
 
 // CHOLMOD's two factorizations of the same tangent, symbolic analysis
 // reused: supernodal (the kernel's) against simplicial (up-looking, no
-// BLAS), numeric factorization + solve.
-template <class Factor>
+// BLAS), numeric factorization + solve, each inside a host teams region
+// limited to one thread as la/linear_solver.cpp runs them; and the
+// supernodal one as CHOLMOD opens its OpenMP loops (4 threads).
+template <class Factor, bool one_thread>
 void factor_mode(benchmark::State& state) {
   Fixture& f = fixture(static_cast<int>(state.range(0)));
   const SpMat& A = f.problem->tangent(f.u, true);
@@ -154,13 +161,58 @@ void factor_mode(benchmark::State& state) {
   llt.cholmod().print = 0;
   llt.analyzePattern(A);
   for (auto _ : state) {
-    llt.factorize(A);
+    if constexpr (one_thread) {
+#pragma omp teams num_teams(1) thread_limit(1)
+      llt.factorize(A);
+    } else {
+      llt.factorize(A);
+    }
     benchmark::DoNotOptimize(Vec(llt.solve(b)).data());
   }
   counters(state, f);
 }
-void BM_CholmodSupernodal(benchmark::State& state) { factor_mode<Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>>(state); }
-void BM_CholmodSimplicial(benchmark::State& state) { factor_mode<Eigen::CholmodSimplicialLLT<SpMat, Eigen::Lower>>(state); }
+using Supernodal = Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>;
+using Simplicial = Eigen::CholmodSimplicialLLT<SpMat, Eigen::Lower>;
+void BM_CholmodSupernodal(benchmark::State& state) { factor_mode<Supernodal, true>(state); }
+void BM_CholmodSimplicial(benchmark::State& state) { factor_mode<Simplicial, true>(state); }
+void BM_CholmodSupernodalFourThreads(benchmark::State& state) { factor_mode<Supernodal, false>(state); }
+
+// The LU factorizations of the same tangent, symbolic analysis reused:
+// UMFPACK (multifrontal, dense fronts through the BLAS) against KLU
+// (left-looking, Gilbert-Peierls, no BLAS; a full factorization with its
+// pivot search each time), numeric factorization + solve. UMFPACK's
+// symmetric strategy (UMFPACK_STRATEGY_SYMMETRIC) measured the same as
+// its default on these tangents.
+template <class Factor>
+void lu_mode(benchmark::State& state) {
+  Fixture& f = fixture(static_cast<int>(state.range(0)));
+  const SpMat& A = f.problem->tangent(f.u, true);
+  const Vec b = Vec::Ones(f.u.size());
+  Factor lu;
+  lu.analyzePattern(A);
+  for (auto _ : state) {
+    lu.factorize(A);
+    benchmark::DoNotOptimize(Vec(lu.solve(b)).data());
+  }
+  counters(state, f);
+}
+void BM_Umfpack(benchmark::State& state) { lu_mode<Eigen::UmfPackLU<SpMat>>(state); }
+void BM_Klu(benchmark::State& state) { lu_mode<Eigen::KLU<SpMat>>(state); }
+// KLU as the kernel runs it (la/klu_lu.hpp): refactorizing with the pivots
+// of its first factorization, each solve refined.
+void BM_KluRefactor(benchmark::State& state) {
+  Fixture& f = fixture(static_cast<int>(state.range(0)));
+  const SpMat& A = f.problem->tangent(f.u, true);
+  const Vec b = Vec::Ones(f.u.size());
+  KluLU lu;
+  lu.analyze(A);
+  for (auto _ : state) {
+    lu.factorize(A);
+    benchmark::DoNotOptimize(lu.solve(b).data());
+  }
+  counters(state, f);
+  state.counters["full_factorizations"] = lu.full_factorizations();
+}
 
 // n x n elements: 2 (n+1)^2 - constraints ~ 1e3, 1e4, 1e5 unknowns.
 #define SIZES ->Arg(22)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond)
@@ -172,6 +224,10 @@ BENCHMARK(BM_FactorSolve) SIZES;
 BENCHMARK(BM_NewtonIteration) SIZES_THREADS;
 BENCHMARK(BM_CholmodSupernodal)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CholmodSimplicial)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CholmodSupernodalFourThreads)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Umfpack)->Arg(22)->Arg(40)->Arg(70)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Klu)->Arg(22)->Arg(40)->Arg(70)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KluRefactor)->Arg(22)->Arg(40)->Arg(70)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -381,10 +381,14 @@ SolverSpec read_solver(CaseSection solver) {
   };
   out.threads = threads("threads");
   out.blas_threads = threads("blas_threads");
-  const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "umfpack"});
-  out.linear_solver = ls == "cholmod"   ? LinearSolverChoice::Cholmod
-                      : ls == "umfpack" ? LinearSolverChoice::Umfpack
-                                        : LinearSolverChoice::Auto;
+  // "umfpack": LU always, by UMFPACK (lu = "umfpack" implied).
+  const std::string ls = solver.text("linear_solver", "auto", {"auto", "cholmod", "lu", "umfpack"});
+  out.linear_solver = ls == "cholmod"                   ? LinearSolverChoice::Cholmod
+                      : ls == "lu" || ls == "umfpack" ? LinearSolverChoice::Lu
+                                                        : LinearSolverChoice::Auto;
+  const std::string lu = solver.text("lu", ls == "umfpack" ? "umfpack" : "klu", {"klu", "umfpack"});
+  if (ls == "umfpack" && lu != "umfpack") solver.fail("lu", "'umfpack' where linear_solver is 'umfpack'");
+  out.lu = lu == "umfpack" ? LuMode::Umfpack : LuMode::Klu;
   const std::string ch = solver.text("cholesky", "supernodal", {"supernodal", "simplicial", "auto"});
   out.cholesky = ch == "simplicial" ? CholeskyMode::Simplicial
                  : ch == "auto"     ? CholeskyMode::Auto

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/timing.hpp"
+#include "la/klu_lu.hpp"
 
 namespace rpfem {
 
@@ -40,14 +41,36 @@ struct LU : Eigen::UmfPackLU<SpMat> {
   }
 };
 
+// CHOLMOD's supernodal factorization (SuiteSparse 5.12 as Debian builds
+// it) clears and copies its arrays in OpenMP loops of a fixed
+// CHOLMOD_OMP_NUM_THREADS = 4 threads; no arithmetic is split among them,
+// so the factor does not depend on their number. On this 2-core machine
+// their barriers cost as much as the factorization itself (bench
+// BM_CholmodSupernodal: 1.9 against 0.9 ms at 1e3 unknowns, 880 against
+// 510 ms at 1e5). Inside a host teams region of one team limited to one
+// thread (OpenMP 5.0, 2.7 teams construct: thread_limit), every parallel
+// region CHOLMOD opens gets one thread; the kernel's own element loops
+// run outside it, on their threads.
+template <class F>
+void on_one_thread(F&& f) {
+#ifdef _OPENMP
+#pragma omp teams num_teams(1) thread_limit(1)
+  f();
+#else
+  f();
+#endif
+}
+
 }  // namespace
 
 struct LinearSolver::Impl {
   Cholesky llt;
   LU lu;
+  KluLU klu;
+  LuMode lu_mode;
   std::uint64_t llt_pattern = 0, lu_pattern = 0;  // 0: not analyzed
   bool use_lu = false;
-  explicit Impl(CholeskyMode mode) {
+  Impl(CholeskyMode mode, LuMode l) : lu_mode(l) {
     llt.setMode(mode == CholeskyMode::Simplicial ? Eigen::CholmodSimplicialLLt
                 : mode == CholeskyMode::Auto     ? Eigen::CholmodAuto
                                                  : Eigen::CholmodSupernodalLLt);
@@ -63,8 +86,8 @@ struct LinearSolver::Impl {
   }
 };
 
-LinearSolver::LinearSolver(LinearSolverChoice choice, CholeskyMode mode)
-    : impl_(std::make_unique<Impl>(mode)), choice_(choice) {}
+LinearSolver::LinearSolver(LinearSolverChoice choice, CholeskyMode mode, LuMode lu)
+    : impl_(std::make_unique<Impl>(mode, lu)), choice_(choice) {}
 LinearSolver::~LinearSolver() = default;
 
 bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t pattern_version) {
@@ -74,13 +97,13 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
   held_pattern_ = 0;
   if (try_llt) {
     if (impl_->llt_pattern != pattern_version) {
-      impl_->llt.analyzePattern(A);
+      on_one_thread([&] { impl_->llt.analyzePattern(A); });
       impl_->llt_pattern = pattern_version;
       ++stats_.analyses;
       stats_.analyze_seconds += seconds_since(t0);
       t0 = Clock::now();
     }
-    impl_->llt.factorize(A);
+    on_one_thread([&] { impl_->llt.factorize(A); });
     stats_.factor_seconds += seconds_since(t0);
     if (impl_->llt.info() == Eigen::Success) {
       impl_->use_lu = false;
@@ -96,22 +119,26 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
     ++stats_.cholesky_fallbacks;  // indefinite: fall through to LU
     t0 = Clock::now();
   }
+  const bool klu = impl_->lu_mode == LuMode::Klu;
   if (impl_->lu_pattern != pattern_version) {
-    impl_->lu.analyzePattern(A);
+    if (klu)
+      impl_->klu.analyze(A);
+    else
+      impl_->lu.analyzePattern(A);
     impl_->lu_pattern = pattern_version;
     ++stats_.analyses;
     stats_.analyze_seconds += seconds_since(t0);
     t0 = Clock::now();
   }
-  impl_->lu.factorize(A);
+  const bool ok = klu ? impl_->klu.factorize(A) : (impl_->lu.factorize(A), impl_->lu.info() == Eigen::Success);
   stats_.factor_seconds += seconds_since(t0);
   impl_->use_lu = true;
-  stats_.last_solver = "umfpack";
-  if (impl_->lu.info() != Eigen::Success) {
+  stats_.last_solver = klu ? "klu" : "umfpack";
+  if (!ok) {
     note_rcond(0.0);  // singular
     return false;
   }
-  note_rcond(impl_->lu.rcond());
+  note_rcond(klu ? impl_->klu.rcond() : impl_->lu.rcond());
   held_pattern_ = pattern_version, held_rows_ = A.rows();
   return true;
 }
@@ -127,7 +154,11 @@ void LinearSolver::note_rcond(double rcond) {
 
 Vec LinearSolver::solve(const Vec& b) {
   const auto t0 = Clock::now();
-  Vec x = impl_->use_lu ? Vec(impl_->lu.solve(b)) : Vec(impl_->llt.solve(b));
+  Vec x;
+  if (impl_->use_lu)
+    x = impl_->lu_mode == LuMode::Klu ? impl_->klu.solve(b) : Vec(impl_->lu.solve(b));
+  else
+    on_one_thread([&] { x = impl_->llt.solve(b); });
   stats_.solve_seconds += seconds_since(t0);
   return x;
 }

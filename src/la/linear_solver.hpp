@@ -1,6 +1,6 @@
 // Sparse direct solves: CHOLMOD (LL^T, supernodal or simplicial) for a symmetric positive
-// definite tangent, UMFPACK (LU) for a nonsymmetric one (frictional contact)
-// or when Cholesky finds the matrix indefinite. The symbolic analysis is
+// definite tangent, LU (KLU or UMFPACK) for a nonsymmetric one (frictional
+// contact) or when Cholesky finds the matrix indefinite. The symbolic analysis is
 // reused while the sparsity pattern is unchanged.
 #pragma once
 #include <cmath>
@@ -12,15 +12,25 @@
 
 namespace rpfem {
 
-enum class LinearSolverChoice { Auto, Cholmod, Umfpack };
+// Auto: CHOLMOD for a symmetric tangent, else LU; Cholmod, Lu: that one
+// always.
+enum class LinearSolverChoice { Auto, Cholmod, Lu };
 // CHOLMOD's factorization: supernodal (dense blocks through the BLAS) or
 // simplicial (column by column, no BLAS). Factor + solve of a tangent
-// (bench BM_Cholmod*, Debian's reference BLAS): simplicial 2.8, 1.8 and
-// 1.7 times faster at 1e3, 3e3 and 1e4 unknowns, 1.6 times slower at 1e5;
-// with OpenBLAS 1.6 times faster at 1e3, even at 1e4 (docs/notes.md).
+// (bench BM_Cholmod*, Debian's reference BLAS, CHOLMOD's OpenMP loops on
+// one thread as linear_solver.cpp runs them): simplicial 1.4 and 1.1 times
+// faster at 1e3 and 3e3 unknowns, even at 1e4, 1.5 times slower at 1e5
+// (docs/notes.md).
 // Auto: CHOLMOD's own choice per analysis (supernodal where the
 // factorization's flops per nonzero of L reach 40, Common->supernodal_switch).
 enum class CholeskyMode { Supernodal, Simplicial, Auto };
+// The LU factorization (nonsymmetric tangents, Cholesky's fallback):
+// KLU (la/klu_lu.hpp: left-looking, no BLAS, refactorizing with the last
+// pivots) or UMFPACK (multifrontal, its dense fronts through the BLAS, a
+// pivot search at every factorization). Factor + solve of a tangent
+// (bench BM_KluRefactor, BM_Umfpack; reference BLAS): KLU 1.9, 1.4 and
+// 1.04 times faster at 1e3, 3e3 and 1e4 unknowns (docs/notes.md).
+enum class LuMode { Klu, Umfpack };
 
 // Below this reciprocal condition estimate a tangent is ill-conditioned for
 // double precision: a direct solve's relative error is bounded by about
@@ -33,12 +43,12 @@ inline constexpr double kIllConditionedRcond = 100 * std::numeric_limits<double>
 struct LinearSolveStats {
   int analyses = 0;          // symbolic analyses done
   int factorizations = 0;
-  int cholesky_fallbacks = 0;  // Cholesky failed, UMFPACK used instead
+  int cholesky_fallbacks = 0;  // Cholesky failed, LU used instead
   double analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
-  std::string last_solver;   // "cholmod" or "umfpack"
+  std::string last_solver;   // "cholmod", "klu" or "umfpack"
   // A rough reciprocal condition number of the last factorization, from
   // its factor's diagonal (CHOLMOD's cholmod_rcond: (min L_ii / max L_ii)^2;
-  // UMFPACK: min |U_ii| / max |U_ii| with its row scaling undone), and the least
+  // LU: min |U_ii| / max |U_ii| with its row scaling undone), and the least
   // since reset_rcond() (infinity if nothing was factorized since; 0 after a
   // factorization that found the matrix singular).
   double last_rcond = 0, min_rcond = INFINITY;
@@ -47,7 +57,7 @@ struct LinearSolveStats {
 class LinearSolver {
  public:
   explicit LinearSolver(LinearSolverChoice choice = LinearSolverChoice::Auto,
-                        CholeskyMode mode = CholeskyMode::Supernodal);
+                        CholeskyMode mode = CholeskyMode::Supernodal, LuMode lu = LuMode::Klu);
   ~LinearSolver();
   // Factorizes A; symmetric tells whether A is symmetric (then only CHOLMOD
   // is tried under Auto). pattern_version identifies A's sparsity pattern.

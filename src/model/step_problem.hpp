@@ -27,7 +27,8 @@ struct ElementMaterial {
 
 // Persists across steps so the pattern and symbolic factorization are reused.
 struct SolverWorkspace {
-  explicit SolverWorkspace(LinearSolverChoice c, CholeskyMode m = CholeskyMode::Supernodal) : linear(c, m) {}
+  explicit SolverWorkspace(LinearSolverChoice c, CholeskyMode m = CholeskyMode::Supernodal, LuMode l = LuMode::Klu)
+      : linear(c, m, l) {}
   SparseAssembler assembler;
   LinearSolver linear;
   DofMap dofs;

@@ -89,7 +89,7 @@ struct Solution {
 class Runner {
  public:
   Runner(const Scene& s, ContactFormulation& c, StepObserver& o)
-      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver, s.solver.cholesky) {
+      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver, s.solver.cholesky, s.solver.lu) {
     ws_.threads = s.solver.threads;
   }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fem/dof_map.hpp"
+#include "la/klu_lu.hpp"
 #include "la/linear_solver.hpp"
 #include "la/sparse_assembler.hpp"
 #include "solver/newton.hpp"
@@ -83,7 +84,7 @@ TEST(LinearSolver, CholmodAndUmfpackSolve) {
   SpMat N = A;
   N.coeffRef(0, 1) = -2.0;  // nonsymmetric
   ASSERT_TRUE(s.factorize(N, false, 1));
-  EXPECT_EQ(s.stats().last_solver, "umfpack");
+  EXPECT_EQ(s.stats().last_solver, "klu");
   EXPECT_LT((N * s.solve(b) - b).norm(), 1e-12);
   // Indefinite but symmetric: Cholesky fails, LU takes over.
   SpMat I = A;
@@ -91,6 +92,46 @@ TEST(LinearSolver, CholmodAndUmfpackSolve) {
   ASSERT_TRUE(s.factorize(I, true, 1));
   EXPECT_EQ(s.stats().cholesky_fallbacks, 1);
   EXPECT_LT((I * s.solve(b) - b).norm(), 1e-10);
+  // UMFPACK instead of KLU: the same solutions.
+  LinearSolver u(LinearSolverChoice::Auto, CholeskyMode::Supernodal, LuMode::Umfpack);
+  ASSERT_TRUE(u.factorize(N, false, 1));
+  EXPECT_EQ(u.stats().last_solver, "umfpack");
+  EXPECT_LT((N * u.solve(b) - b).norm(), 1e-12);
+}
+
+// KLU refactorizes a matrix of the pattern it factorized with the pivots
+// it chose then, and factorizes in full again where those pivots would
+// lose more than kRefactorRcondLoss of the pivot ratio: a matrix whose
+// first diagonal entry drops by 1e6 (the kept pivot order would divide by
+// it) is solved to round-off all the same.
+TEST(KluLU, RefactorizesWithTheLastPivotsUnlessTheyDegrade) {
+  const int n = 30;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, i, 4.0);
+    if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -1.5);
+  }
+  SpMat A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  const Vec b = Vec::LinSpaced(n, 1, 2);
+  KluLU lu;
+  lu.analyze(A);
+  ASSERT_TRUE(lu.factorize(A));
+  EXPECT_EQ(lu.full_factorizations(), 1);
+  EXPECT_LT((A * lu.solve(b) - b).norm(), 1e-12);
+  SpMat B = A;
+  B.coeffRef(5, 5) = 5.0;  // values change, pivots still good
+  ASSERT_TRUE(lu.factorize(B));
+  EXPECT_EQ(lu.full_factorizations(), 1);
+  EXPECT_EQ(lu.refactorizations(), 1);
+  EXPECT_LT((B * lu.solve(b) - b).norm(), 1e-12);
+  SpMat C = A;
+  C.coeffRef(0, 0) = 4e-6;  // the first pivot nearly vanishes
+  ASSERT_TRUE(lu.factorize(C));
+  EXPECT_EQ(lu.full_factorizations(), 2);
+  EXPECT_LT((C * lu.solve(b) - b).norm(), 1e-10 * b.norm());
+  EXPECT_GT(lu.rcond(), 0.0);
 }
 
 // CHOLMOD's simplicial factorization (solver.cholesky) solves what the
@@ -353,16 +394,19 @@ TEST(LinearSolver, ConditionEstimateFromTheFactorDiagonal) {
   for (int i = 0; i < n; ++i) D.insert(i, i) = i == n - 1 ? 1e-6 : 1.0;
   SpMat W = D;
   W.coeffRef(n - 1, n - 1) = 1e-12;
-  LinearSolver chol, lu(LinearSolverChoice::Umfpack);
+  LinearSolver chol;
   ASSERT_TRUE(chol.factorize(D, true, 1));
   EXPECT_NEAR(chol.stats().last_rcond, 1e-6, 1e-18);
-  ASSERT_TRUE(lu.factorize(D, true, 1));
-  EXPECT_NEAR(lu.stats().last_rcond, 1e-6, 1e-18);
-  ASSERT_TRUE(lu.factorize(W, true, 1));
-  ASSERT_TRUE(lu.factorize(D, true, 1));
-  EXPECT_NEAR(lu.stats().min_rcond, 1e-12, 1e-24);
-  lu.reset_rcond();
-  EXPECT_TRUE(std::isinf(lu.stats().min_rcond));
+  for (LuMode mode : {LuMode::Klu, LuMode::Umfpack}) {
+    LinearSolver lu(LinearSolverChoice::Lu, CholeskyMode::Supernodal, mode);
+    ASSERT_TRUE(lu.factorize(D, true, 1));
+    EXPECT_NEAR(lu.stats().last_rcond, 1e-6, 1e-18);
+    ASSERT_TRUE(lu.factorize(W, true, 1));
+    ASSERT_TRUE(lu.factorize(D, true, 1));
+    EXPECT_NEAR(lu.stats().min_rcond, 1e-12, 1e-24);
+    lu.reset_rcond();
+    EXPECT_TRUE(std::isinf(lu.stats().min_rcond));
+  }
 }
 
 // A singular matrix: both factorizations fail, and the condition estimate
@@ -373,8 +417,9 @@ TEST(LinearSolver, SingularMatrixRecordsZeroCondition) {
   A.insert(0, 0) = 1.0, A.insert(0, 1) = 1.0, A.insert(1, 0) = 1.0, A.insert(1, 1) = 1.0;
   SpMat I(2, 2);
   I.insert(0, 0) = 1.0, I.insert(1, 1) = 1.0;
-  for (auto choice : {LinearSolverChoice::Auto, LinearSolverChoice::Cholmod, LinearSolverChoice::Umfpack}) {
-    LinearSolver s(choice);
+  for (auto [choice, mode] : {std::pair{LinearSolverChoice::Auto, LuMode::Klu}, std::pair{LinearSolverChoice::Cholmod, LuMode::Klu},
+                               std::pair{LinearSolverChoice::Lu, LuMode::Klu}, std::pair{LinearSolverChoice::Lu, LuMode::Umfpack}}) {
+    LinearSolver s(choice, CholeskyMode::Supernodal, mode);
     ASSERT_TRUE(s.factorize(I, true, 1));
     EXPECT_EQ(s.stats().min_rcond, 1.0);
     EXPECT_FALSE(s.factorize(A, true, 2));
