@@ -225,9 +225,9 @@ BENCHMARK(BM_NewtonIteration) SIZES_THREADS;
 BENCHMARK(BM_CholmodSupernodal)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CholmodSimplicial)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CholmodSupernodalFourThreads)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Umfpack)->Arg(22)->Arg(40)->Arg(70)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Umfpack)->Arg(22)->Arg(40)->Arg(70)->Arg(120)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Klu)->Arg(22)->Arg(40)->Arg(70)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_KluRefactor)->Arg(22)->Arg(40)->Arg(70)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KluRefactor)->Arg(22)->Arg(40)->Arg(70)->Arg(120)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

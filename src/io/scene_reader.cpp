@@ -386,9 +386,9 @@ SolverSpec read_solver(CaseSection solver) {
   out.linear_solver = ls == "cholmod"                   ? LinearSolverChoice::Cholmod
                       : ls == "lu" || ls == "umfpack" ? LinearSolverChoice::Lu
                                                         : LinearSolverChoice::Auto;
-  const std::string lu = solver.text("lu", ls == "umfpack" ? "umfpack" : "klu", {"klu", "umfpack"});
+  const std::string lu = solver.text("lu", ls == "umfpack" ? "umfpack" : "auto", {"auto", "klu", "umfpack"});
   if (ls == "umfpack" && lu != "umfpack") solver.fail("lu", "'umfpack' where linear_solver is 'umfpack'");
-  out.lu = lu == "umfpack" ? LuMode::Umfpack : LuMode::Klu;
+  out.lu = lu == "umfpack" ? LuMode::Umfpack : lu == "klu" ? LuMode::Klu : LuMode::Auto;
   const std::string ch = solver.text("cholesky", "supernodal", {"supernodal", "simplicial", "auto"});
   out.cholesky = ch == "simplicial" ? CholeskyMode::Simplicial
                  : ch == "auto"     ? CholeskyMode::Auto

@@ -46,8 +46,8 @@ struct LU : Eigen::UmfPackLU<SpMat> {
 // CHOLMOD_OMP_NUM_THREADS = 4 threads; no arithmetic is split among them,
 // so the factor does not depend on their number. On this 2-core machine
 // their barriers cost as much as the factorization itself (bench
-// BM_CholmodSupernodal: 1.9 against 0.9 ms at 1e3 unknowns, 880 against
-// 510 ms at 1e5). Inside a host teams region of one team limited to one
+// BM_CholmodSupernodalFourThreads against BM_CholmodSupernodal: 1.84
+// against 0.98 ms at 1e3 unknowns, 858 against 521 ms at 1e5). Inside a host teams region of one team limited to one
 // thread (OpenMP 5.0, 2.7 teams construct: thread_limit), every parallel
 // region CHOLMOD opens gets one thread; the kernel's own element loops
 // run outside it, on their threads.
@@ -70,6 +70,7 @@ struct LinearSolver::Impl {
   LuMode lu_mode;
   std::uint64_t llt_pattern = 0, lu_pattern = 0;  // 0: not analyzed
   bool use_lu = false;
+  bool lu_is_klu = false;  // the LU analysis and factorization held are KLU's
   Impl(CholeskyMode mode, LuMode l) : lu_mode(l) {
     llt.setMode(mode == CholeskyMode::Simplicial ? Eigen::CholmodSimplicialLLt
                 : mode == CholeskyMode::Auto     ? Eigen::CholmodAuto
@@ -119,13 +120,14 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
     ++stats_.cholesky_fallbacks;  // indefinite: fall through to LU
     t0 = Clock::now();
   }
-  const bool klu = impl_->lu_mode == LuMode::Klu;
-  if (impl_->lu_pattern != pattern_version) {
+  const bool klu = impl_->lu_mode == LuMode::Klu || (impl_->lu_mode == LuMode::Auto && A.rows() < kKluMaxRows);
+  if (impl_->lu_pattern != pattern_version || impl_->lu_is_klu != klu) {
     if (klu)
       impl_->klu.analyze(A);
     else
       impl_->lu.analyzePattern(A);
     impl_->lu_pattern = pattern_version;
+    impl_->lu_is_klu = klu;
     ++stats_.analyses;
     stats_.analyze_seconds += seconds_since(t0);
     t0 = Clock::now();
@@ -156,7 +158,7 @@ Vec LinearSolver::solve(const Vec& b) {
   const auto t0 = Clock::now();
   Vec x;
   if (impl_->use_lu)
-    x = impl_->lu_mode == LuMode::Klu ? impl_->klu.solve(b) : Vec(impl_->lu.solve(b));
+    x = impl_->lu_is_klu ? impl_->klu.solve(b) : Vec(impl_->lu.solve(b));
   else
     on_one_thread([&] { x = impl_->llt.solve(b); });
   stats_.solve_seconds += seconds_since(t0);

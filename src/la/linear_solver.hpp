@@ -29,8 +29,10 @@ enum class CholeskyMode { Supernodal, Simplicial, Auto };
 // pivots) or UMFPACK (multifrontal, its dense fronts through the BLAS, a
 // pivot search at every factorization). Factor + solve of a tangent
 // (bench BM_KluRefactor, BM_Umfpack; reference BLAS): KLU 1.9, 1.4 and
-// 1.04 times faster at 1e3, 3e3 and 1e4 unknowns (docs/notes.md).
-enum class LuMode { Klu, Umfpack };
+// 1.04 times faster at 1e3, 3e3 and 1e4 unknowns, 1.4 times slower at
+// 2.9e4 (docs/notes.md). Auto: KLU below kKluMaxRows rows, else UMFPACK.
+enum class LuMode { Auto, Klu, Umfpack };
+inline constexpr long kKluMaxRows = 10000;
 
 // Below this reciprocal condition estimate a tangent is ill-conditioned for
 // double precision: a direct solve's relative error is bounded by about
@@ -57,7 +59,7 @@ struct LinearSolveStats {
 class LinearSolver {
  public:
   explicit LinearSolver(LinearSolverChoice choice = LinearSolverChoice::Auto,
-                        CholeskyMode mode = CholeskyMode::Supernodal, LuMode lu = LuMode::Klu);
+                        CholeskyMode mode = CholeskyMode::Supernodal, LuMode lu = LuMode::Auto);
   ~LinearSolver();
   // Factorizes A; symmetric tells whether A is symmetric (then only CHOLMOD
   // is tried under Auto). pattern_version identifies A's sparsity pattern.

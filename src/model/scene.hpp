@@ -71,7 +71,7 @@ struct SolverSpec {
   NewtonSettings newton;
   LinearSolverChoice linear_solver = LinearSolverChoice::Auto;
   CholeskyMode cholesky = CholeskyMode::Supernodal;
-  LuMode lu = LuMode::Klu;
+  LuMode lu = LuMode::Auto;
   // Threads of the element loops (model/element_loop.hpp); the results do
   // not depend on it, bit for bit.
   int threads = 1;

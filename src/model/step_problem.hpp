@@ -27,7 +27,7 @@ struct ElementMaterial {
 
 // Persists across steps so the pattern and symbolic factorization are reused.
 struct SolverWorkspace {
-  explicit SolverWorkspace(LinearSolverChoice c, CholeskyMode m = CholeskyMode::Supernodal, LuMode l = LuMode::Klu)
+  explicit SolverWorkspace(LinearSolverChoice c, CholeskyMode m = CholeskyMode::Supernodal, LuMode l = LuMode::Auto)
       : linear(c, m, l) {}
   SparseAssembler assembler;
   LinearSolver linear;

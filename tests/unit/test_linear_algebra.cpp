@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <vector>
 
 #include "fem/dof_map.hpp"
@@ -97,6 +98,54 @@ TEST(LinearSolver, CholmodAndUmfpackSolve) {
   ASSERT_TRUE(u.factorize(N, false, 1));
   EXPECT_EQ(u.stats().last_solver, "umfpack");
   EXPECT_LT((N * u.solve(b) - b).norm(), 1e-12);
+}
+
+// solver.lu = auto: KLU below kKluMaxRows rows, UMFPACK from there, each
+// solving a nonsymmetric tridiagonal system to round-off.
+TEST(LinearSolver, AutoLuIsKluForSmallSystemsUmfpackForLarge) {
+  for (const long n : {kKluMaxRows - 1, kKluMaxRows}) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, i, 4.0);
+      if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -2.0);
+    }
+    SpMat A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    const Vec b = Vec::LinSpaced(n, 1, 2);
+    LinearSolver s;
+    ASSERT_TRUE(s.factorize(A, false, 1));
+    EXPECT_EQ(s.stats().last_solver, n < kKluMaxRows ? "klu" : "umfpack") << n;
+    EXPECT_LT((A * s.solve(b) - b).norm(), 1e-12 * b.norm()) << n;
+  }
+}
+
+// CHOLMOD's supernodal factorization opens OpenMP loops of 4 threads
+// (CHOLMOD_OMP_NUM_THREADS) where n > 128; LinearSolver runs it on one
+// thread, so a factorization adds no thread to the process (OpenMP's pool
+// would keep the three it started). The count is read from /proc.
+TEST(LinearSolver, CholmodStartsNoThreads) {
+  const auto threads = [] {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator("/proc/self/task")) n += e.is_directory();
+    return n;
+  };
+  const int m = 30, n = m * m;  // a 30 x 30 grid's Laplacian plus a shift
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const int k = i * m + j;
+      t.emplace_back(k, k, 4.1);
+      if (i > 0) t.emplace_back(k, k - m, -1.0), t.emplace_back(k - m, k, -1.0);
+      if (j > 0) t.emplace_back(k, k - 1, -1.0), t.emplace_back(k - 1, k, -1.0);
+    }
+  SpMat A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  const int before = threads();
+  LinearSolver s(LinearSolverChoice::Cholmod, CholeskyMode::Supernodal);
+  ASSERT_TRUE(s.factorize(A, true, 1));
+  const Vec b = Vec::Ones(n);
+  EXPECT_LT((A * s.solve(b) - b).norm(), 1e-10);
+  EXPECT_EQ(threads(), before);
 }
 
 // KLU refactorizes a matrix of the pattern it factorized with the pivots
