@@ -289,7 +289,10 @@ std::string RunObserver::finish(const RunOutcome& out) {
                                {"triangular_solves", out.solve_seconds}});
   summary_.insert_or_assign("linear_solver", toml::table{{"pattern_builds", out.pattern_builds},
                                                           {"factorizations", out.factorizations},
-                                                          {"cholesky_fallbacks", out.cholesky_fallbacks}});
+                                                          {"cholesky_fallbacks", out.cholesky_fallbacks},
+                                                          {"by_cholmod", out.by_cholmod},
+                                                          {"by_klu", out.by_klu},
+                                                          {"by_umfpack", out.by_umfpack}});
   if (std::isfinite(out.min_tangent_rcond)) summary_.insert_or_assign("min_tangent_rcond", out.min_tangent_rcond);
   toml::array warnings;
   for (const auto& w : out.warnings) warnings.push_back(w);

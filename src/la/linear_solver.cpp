@@ -105,6 +105,7 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
       t0 = Clock::now();
     }
     on_one_thread([&] { impl_->llt.factorize(A); });
+    ++stats_.by_cholmod;
     stats_.factor_seconds += seconds_since(t0);
     if (impl_->llt.info() == Eigen::Success) {
       impl_->use_lu = false;
@@ -136,6 +137,7 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
   stats_.factor_seconds += seconds_since(t0);
   impl_->use_lu = true;
   stats_.last_solver = klu ? "klu" : "umfpack";
+  ++(klu ? stats_.by_klu : stats_.by_umfpack);
   if (!ok) {
     note_rcond(0.0);  // singular
     return false;

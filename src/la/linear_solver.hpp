@@ -46,6 +46,8 @@ struct LinearSolveStats {
   int analyses = 0;          // symbolic analyses done
   int factorizations = 0;
   int cholesky_fallbacks = 0;  // Cholesky failed, LU used instead
+  // Factorizations by each library (a Cholesky fallback counts in both).
+  int by_cholmod = 0, by_klu = 0, by_umfpack = 0;
   double analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
   std::string last_solver;   // "cholmod", "klu" or "umfpack"
   // A rough reciprocal condition number of the last factorization, from

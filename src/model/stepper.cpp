@@ -414,6 +414,7 @@ RunOutcome Runner::finish() {
   out_.pattern_builds = ws_.pattern_builds;
   out_.factorizations = ls.factorizations;
   out_.cholesky_fallbacks = ls.cholesky_fallbacks;
+  out_.by_cholmod = ls.by_cholmod, out_.by_klu = ls.by_klu, out_.by_umfpack = ls.by_umfpack;
   return out_;
 }
 

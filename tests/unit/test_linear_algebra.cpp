@@ -92,6 +92,8 @@ TEST(LinearSolver, CholmodAndUmfpackSolve) {
   I.coeffRef(3, 3) = -4.0;
   ASSERT_TRUE(s.factorize(I, true, 1));
   EXPECT_EQ(s.stats().cholesky_fallbacks, 1);
+  EXPECT_EQ(s.stats().by_cholmod, 3);  // A twice, then I (failed)
+  EXPECT_EQ(s.stats().by_klu, 2);      // N, then I
   EXPECT_LT((I * s.solve(b) - b).norm(), 1e-10);
   // UMFPACK instead of KLU: the same solutions.
   LinearSolver u(LinearSolverChoice::Auto, CholeskyMode::Supernodal, LuMode::Umfpack);
@@ -115,6 +117,9 @@ TEST(LinearSolver, AutoLuIsKluForSmallSystemsUmfpackForLarge) {
     LinearSolver s;
     ASSERT_TRUE(s.factorize(A, false, 1));
     EXPECT_EQ(s.stats().last_solver, n < kKluMaxRows ? "klu" : "umfpack") << n;
+    EXPECT_EQ(s.stats().by_klu, n < kKluMaxRows ? 1 : 0) << n;
+    EXPECT_EQ(s.stats().by_umfpack, n < kKluMaxRows ? 0 : 1) << n;
+    EXPECT_EQ(s.stats().by_cholmod, 0) << n;
     EXPECT_LT((A * s.solve(b) - b).norm(), 1e-12 * b.norm()) << n;
   }
 }
