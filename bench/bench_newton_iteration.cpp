@@ -147,57 +147,42 @@ void BM_NewtonIteration(benchmark::State& state) {
   f.ws.threads = 1;
 }
 
-// CHOLMOD's two factorizations of the same tangent, symbolic analysis
-// reused: supernodal (the kernel's) against simplicial (up-looking, no
-// BLAS), numeric factorization + solve, each inside a host teams region
-// limited to one thread as la/linear_solver.cpp runs them; and the
-// supernodal one as CHOLMOD opens its OpenMP loops (4 threads).
-template <class Factor, bool one_thread>
-void factor_mode(benchmark::State& state) {
+// A factorization of the bench's tangent, symbolic analysis reused:
+// numeric factorization + solve per iteration, inside a host teams region
+// limited to one thread where one_thread (as la/linear_solver.cpp runs
+// CHOLMOD). CHOLMOD's supernodal (the kernel's) and simplicial (no BLAS)
+// factorizations, and the supernodal one as CHOLMOD opens its OpenMP loops
+// (4 threads); UMFPACK (multifrontal, dense fronts through the BLAS)
+// against KLU (left-looking, no BLAS; a full factorization with its pivot
+// search each time). UMFPACK's symmetric strategy
+// (UMFPACK_STRATEGY_SYMMETRIC) measured the same as its default on these
+// tangents.
+template <class Factor, bool one_thread = false>
+void factor_solve(benchmark::State& state) {
   Fixture& f = fixture(static_cast<int>(state.range(0)));
   const SpMat& A = f.problem->tangent(f.u, true);
   const Vec b = Vec::Ones(f.u.size());
-  Factor llt;
-  llt.cholmod().print = 0;
-  llt.analyzePattern(A);
+  Factor factor;
+  if constexpr (requires { factor.cholmod(); }) factor.cholmod().print = 0;
+  factor.analyzePattern(A);
   for (auto _ : state) {
     if constexpr (one_thread) {
 #pragma omp teams num_teams(1) thread_limit(1)
-      llt.factorize(A);
+      factor.factorize(A);
     } else {
-      llt.factorize(A);
+      factor.factorize(A);
     }
-    benchmark::DoNotOptimize(Vec(llt.solve(b)).data());
+    benchmark::DoNotOptimize(Vec(factor.solve(b)).data());
   }
   counters(state, f);
 }
 using Supernodal = Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>;
 using Simplicial = Eigen::CholmodSimplicialLLT<SpMat, Eigen::Lower>;
-void BM_CholmodSupernodal(benchmark::State& state) { factor_mode<Supernodal, true>(state); }
-void BM_CholmodSimplicial(benchmark::State& state) { factor_mode<Simplicial, true>(state); }
-void BM_CholmodSupernodalFourThreads(benchmark::State& state) { factor_mode<Supernodal, false>(state); }
-
-// The LU factorizations of the same tangent, symbolic analysis reused:
-// UMFPACK (multifrontal, dense fronts through the BLAS) against KLU
-// (left-looking, Gilbert-Peierls, no BLAS; a full factorization with its
-// pivot search each time), numeric factorization + solve. UMFPACK's
-// symmetric strategy (UMFPACK_STRATEGY_SYMMETRIC) measured the same as
-// its default on these tangents.
-template <class Factor>
-void lu_mode(benchmark::State& state) {
-  Fixture& f = fixture(static_cast<int>(state.range(0)));
-  const SpMat& A = f.problem->tangent(f.u, true);
-  const Vec b = Vec::Ones(f.u.size());
-  Factor lu;
-  lu.analyzePattern(A);
-  for (auto _ : state) {
-    lu.factorize(A);
-    benchmark::DoNotOptimize(Vec(lu.solve(b)).data());
-  }
-  counters(state, f);
-}
-void BM_Umfpack(benchmark::State& state) { lu_mode<Eigen::UmfPackLU<SpMat>>(state); }
-void BM_Klu(benchmark::State& state) { lu_mode<Eigen::KLU<SpMat>>(state); }
+void BM_CholmodSupernodal(benchmark::State& state) { factor_solve<Supernodal, true>(state); }
+void BM_CholmodSimplicial(benchmark::State& state) { factor_solve<Simplicial, true>(state); }
+void BM_CholmodSupernodalFourThreads(benchmark::State& state) { factor_solve<Supernodal>(state); }
+void BM_Umfpack(benchmark::State& state) { factor_solve<Eigen::UmfPackLU<SpMat>>(state); }
+void BM_Klu(benchmark::State& state) { factor_solve<Eigen::KLU<SpMat>>(state); }
 // KLU as the kernel runs it (la/klu_lu.hpp): refactorizing with the pivots
 // of its first factorization, each solve refined.
 void BM_KluRefactor(benchmark::State& state) {

@@ -8,7 +8,7 @@
 namespace rpfem {
 
 struct KluLU::Impl {
-  SpMat matrix;  // the one factorized, for the refinement's residuals
+  SpMat matrix;  // the pattern analyzed, the values factorized (the refinement's residuals)
   klu_common common;
   klu_symbolic* symbolic = nullptr;
   klu_numeric* numeric = nullptr;
@@ -33,28 +33,21 @@ struct KluLU::Impl {
 };
 
 namespace {
-// KLU takes the arrays as non-const; it reads them only. A matrix left
-// uncompressed (inserted into) is compressed in a copy first.
+// KLU takes the arrays as non-const; it reads them only.
 int* outer(const SpMat& A) { return const_cast<int*>(A.outerIndexPtr()); }
 int* inner(const SpMat& A) { return const_cast<int*>(A.innerIndexPtr()); }
 double* values(const SpMat& A) { return const_cast<double*>(A.valuePtr()); }
-const SpMat& compressed(const SpMat& A, SpMat& copy) {
-  if (A.isCompressed()) return A;
-  copy = A;
-  copy.makeCompressed();
-  return copy;
-}
 }  // namespace
 
 KluLU::KluLU() : impl_(std::make_unique<Impl>()) {}
 KluLU::~KluLU() = default;
 
-void KluLU::analyze(const SpMat& matrix) {
-  SpMat copy;
-  const SpMat& A = compressed(matrix, copy);
+void KluLU::analyze(const SpMat& A) {
   impl_->clear();
+  impl_->matrix = A;  // compressed: the pattern each factorization's values fill
+  impl_->matrix.makeCompressed();
   impl_->n = static_cast<int>(A.rows());
-  impl_->symbolic = klu_analyze(impl_->n, outer(A), inner(A), &impl_->common);
+  impl_->symbolic = klu_analyze(impl_->n, outer(impl_->matrix), inner(impl_->matrix), &impl_->common);
   rcond_ = full_rcond_ = 0;
 }
 
@@ -73,9 +66,13 @@ bool KluLU::full(const SpMat& A) {
 
 bool KluLU::factorize(const SpMat& matrix) {
   if (!impl_->symbolic) return rcond_ = 0, false;
-  impl_->matrix = matrix;
-  impl_->matrix.makeCompressed();
-  const SpMat& A = impl_->matrix;
+  // The values into the analyzed pattern (no allocation in a Newton
+  // iteration); a matrix left uncompressed (inserted into) is copied whole.
+  SpMat& A = impl_->matrix;
+  if (matrix.isCompressed() && matrix.nonZeros() == A.nonZeros())
+    std::copy(matrix.valuePtr(), matrix.valuePtr() + matrix.nonZeros(), A.valuePtr());
+  else
+    A = matrix, A.makeCompressed();
   if (impl_->numeric && full_rcond_ > 0) {
     ++refactor_;
     if (klu_refactor(outer(A), inner(A), values(A), impl_->symbolic, impl_->numeric, &impl_->common) &&

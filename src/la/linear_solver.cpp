@@ -47,10 +47,11 @@ struct LU : Eigen::UmfPackLU<SpMat> {
 // so the factor does not depend on their number. On this 2-core machine
 // their barriers cost as much as the factorization itself (bench
 // BM_CholmodSupernodalFourThreads against BM_CholmodSupernodal: 1.84
-// against 0.98 ms at 1e3 unknowns, 858 against 521 ms at 1e5). Inside a host teams region of one team limited to one
-// thread (OpenMP 5.0, 2.7 teams construct: thread_limit), every parallel
-// region CHOLMOD opens gets one thread; the kernel's own element loops
-// run outside it, on their threads.
+// against 0.98 ms at 1e3 unknowns, 858 against 521 ms at 1e5). Inside a
+// host teams region of one team limited to one thread (OpenMP 5.0, 2.7
+// teams construct: thread_limit), every parallel region CHOLMOD opens gets
+// one thread; the kernel's own element loops run outside it, on their
+// threads.
 template <class F>
 void on_one_thread(F&& f) {
 #ifdef _OPENMP

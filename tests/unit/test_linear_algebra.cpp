@@ -66,15 +66,24 @@ TEST(SparseAssembler, MatchesDenseTransformedAssembly) {
   EXPECT_GT(A.pattern_version(), v0);
 }
 
-TEST(LinearSolver, CholmodAndUmfpackSolve) {
-  const int n = 50;
+namespace {
+// The n x n tridiagonal matrix with `diag` on the diagonal, `lower` below
+// and `upper` above it.
+SpMat tridiagonal(long n, double lower, double diag, double upper) {
   std::vector<Eigen::Triplet<double>> t;
   for (int i = 0; i < n; ++i) {
-    t.emplace_back(i, i, 4.0);
-    if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -1.0);
+    t.emplace_back(i, i, diag);
+    if (i > 0) t.emplace_back(i, i - 1, lower), t.emplace_back(i - 1, i, upper);
   }
   SpMat A(n, n);
   A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+}  // namespace
+
+TEST(LinearSolver, CholmodAndUmfpackSolve) {
+  const int n = 50;
+  const SpMat A = tridiagonal(n, -1.0, 4.0, -1.0);
   const Vec b = Vec::LinSpaced(n, 1, 2);
   LinearSolver s;
   ASSERT_TRUE(s.factorize(A, true, 1));
@@ -106,13 +115,7 @@ TEST(LinearSolver, CholmodAndUmfpackSolve) {
 // solving a nonsymmetric tridiagonal system to round-off.
 TEST(LinearSolver, AutoLuIsKluForSmallSystemsUmfpackForLarge) {
   for (const long n : {kKluMaxRows - 1, kKluMaxRows}) {
-    std::vector<Eigen::Triplet<double>> t;
-    for (int i = 0; i < n; ++i) {
-      t.emplace_back(i, i, 4.0);
-      if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -2.0);
-    }
-    SpMat A(n, n);
-    A.setFromTriplets(t.begin(), t.end());
+    const SpMat A = tridiagonal(n, -1.0, 4.0, -2.0);
     const Vec b = Vec::LinSpaced(n, 1, 2);
     LinearSolver s;
     ASSERT_TRUE(s.factorize(A, false, 1));
@@ -160,14 +163,7 @@ TEST(LinearSolver, CholmodStartsNoThreads) {
 // it) is solved to round-off all the same.
 TEST(KluLU, RefactorizesWithTheLastPivotsUnlessTheyDegrade) {
   const int n = 30;
-  std::vector<Eigen::Triplet<double>> t;
-  for (int i = 0; i < n; ++i) {
-    t.emplace_back(i, i, 4.0);
-    if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -1.5);
-  }
-  SpMat A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
-  A.makeCompressed();
+  const SpMat A = tridiagonal(n, -1.0, 4.0, -1.5);
   const Vec b = Vec::LinSpaced(n, 1, 2);
   KluLU lu;
   lu.analyze(A);
