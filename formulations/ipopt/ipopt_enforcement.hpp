@@ -12,6 +12,7 @@
 //   Coulomb:         B = min(mu N, k w), N the last solve's multiplier
 // (k w: the sticking bound of the rows' contact areas, as everywhere).
 #pragma once
+#include <cmath>
 #include <map>
 #include <utility>
 #include <vector>
@@ -38,6 +39,12 @@ class IpoptEnforcement final : public ContactEnforcement {
   void derived(std::vector<NamedValue>& out) const override;
 
  private:
+  // The pressing forces (N) of a settled solve, and the time of its
+  // configuration (s; NaN: none).
+  struct ForceRecord {
+    double time = NAN;
+    std::map<std::pair<int, Index>, double> force;
+  };
   // In contact after the last solve: at zero end gap (to kPressGap of the
   // element size) with a compressive force. An interior point leaves tiny
   // positive multipliers (about mu / slack) on rows far from contact; they
@@ -51,6 +58,9 @@ class IpoptEnforcement final : public ContactEnforcement {
   // (on_) and the rows' normal forces.
   void set_bounds(const StepView& v, const std::vector<double>& force);
   double smoothing_speed(std::size_t i) const;
+  // A solve's first normal forces (and on_) from the settled solves before it.
+  void predict_forces(const std::vector<ContactRow>& rows, std::vector<double>& force);
+  void record_pressing(ForceRecord& into) const;
   // The next pass's bounds from this pass's (`g`, bound_ = F(g)).
   void accelerate(const std::vector<double>& g, int flips_before);
 
@@ -75,7 +85,9 @@ class IpoptEnforcement final : public ContactEnforcement {
   std::vector<char> on_, flipped_;
   std::vector<RowResult> results_;
   std::map<std::pair<int, Index>, double> latest_force_;  // N: every row's force in the latest settled solve
-  std::map<std::pair<int, Index>, double> last_force_;  // N: the last accepted step's pressing forces
+  ForceRecord accepted_[2];  // the last two accepted steps' (older first)
+  ForceRecord in_step_;      // this step's latest settled solve (the half step's)
+  double solve_time_ = 0;    // s: the configuration of the solve under way
   double speed_scale_ = 0, friction_tol_ = 0, friction_change_ = 0;
 };
 

@@ -37,6 +37,14 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   const std::string mu_strategy = settings.text("mu_strategy", "monotone", {"monotone", "adaptive"});
   const std::string linear_solver = settings.text("linear_solver", "mumps", {"mumps"});
   const int print_level = settings.integer("print_level", 0, 0, 12);
+  // MUMPS's scaling of the augmented system: Ipopt's default (77, MUMPS's
+  // automatic choice) computes one at every factorization; the system is
+  // scaled by the program's own scaling already (get_scaling_parameters).
+  const int mumps_scaling = settings.integer("mumps_scaling", 0, -2, 77);
+  // Refinement steps on the primal-dual system before its residual is
+  // checked: Ipopt's default 1 costs a back-solve at every iteration; it
+  // refines anyway while the residual ratio exceeds its residual_ratio_max.
+  const int min_refinement = settings.integer("min_refinement_steps", 0, 0, 10);
   mu_init_ = settings.real("mu_init", 1e-6, Range::positive(), "Ipopt's initial barrier parameter (warm starts)");
   warm_start_ = settings.flag("warm_start", true);
   warm_mu_init_ = settings.real("warm_mu_init", 1e-11, Range::positive(),
@@ -60,6 +68,8 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   o.SetStringValue("mu_strategy", mu_strategy);
   o.SetNumericValue("mu_init", mu_init_);
   o.SetStringValue("linear_solver", linear_solver);
+  o.SetIntegerValue("mumps_scaling", mumps_scaling);
+  o.SetIntegerValue("min_refinement_steps", min_refinement);
   // Read by Ipopt only with warm_start_init_point (solve()).
   o.SetNumericValue("warm_start_bound_push", warm_push_);
   o.SetNumericValue("warm_start_slack_bound_push", warm_push_);
