@@ -65,6 +65,7 @@ void IpoptEnforcement::begin_step(const StepView& v, const std::vector<ContactRo
   last_g_.clear();
   last_Fg_.clear();
   set_bounds(v, force);
+  solver_.first_loose(std::any_of(bound_.begin(), bound_.end(), [](double b) { return b > 0; }));
 }
 
 void IpoptEnforcement::predict_forces(const std::vector<ContactRow>& rows, std::vector<double>& force) {

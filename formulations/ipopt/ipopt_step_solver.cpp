@@ -31,6 +31,8 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   warm_tol_ = settings.real("warm_tol", 1e-11, Range::positive(),
                             "Ipopt's tol when starting from the last multipliers (a pass near the friction bounds' "
                             "fixed point, a step's first solve)");
+  loose_tol_ = settings.real("loose_tol", 1e-8, Range::positive(),
+                             "Ipopt's tol for a warm pass whose solution only gives the next friction bounds");
   const double relax =
       settings.real("bound_relax_factor", 1e-10, Range::nonnegative(), "Ipopt's relaxation of the contact bounds");
   max_iter_ = settings.integer("max_iter", 500, 1, 100000);
@@ -126,8 +128,9 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
   // loose tol already, and Ipopt would stop there without following the
   // new bounds (a plain start's last Newton steps overshoot tol by orders):
   // warm starts are solved to warm_tol, but for the passes far from the
-  // friction bounds' fixed point (`loose`, the enforcement's call), whose
-  // solutions only give the next bounds; a loose solution is never the
+  // friction bounds' fixed point and a step's first pass, whose bounds are
+  // a prediction (`loose`, the enforcement's call): their solutions only
+  // give the next bounds; a loose solution is never the
   // one taken (IpoptEnforcement::settle). A warm attempt whose solution is
   // not taken (warm_max_iter) is solved again from the plain start.
   std::vector<double> start_lambda;
@@ -139,8 +142,7 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
       for (std::size_t j = 0; j < rows_now.size(); ++j) start_lambda[j] = -(*rows_)[row_of[j]].start_force;
     }
   }
-  const bool repass = warm_next_;
-  const bool loose = !start_lambda.empty() && repass && loose_next_;
+  const bool loose = !start_lambda.empty() && loose_next_;
   last_loose_ = loose;
   warm_next_ = loose_next_ = false;
   used_ = static_cast<int>(rows_now.size());
@@ -148,7 +150,7 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
   NlpOutcome out;
   bool ok = false;
   if (!start_lambda.empty()) {
-    use_warm_start(true, loose ? tol_ : warm_tol_);
+    use_warm_start(true, loose ? loose_tol_ : warm_tol_);
     out = optimize(problem, u, last_scale_, &start_lambda);
     use_warm_start(false, tol_);
     ok = conclude(v, problem, row_of, out, result);

@@ -54,8 +54,11 @@ class IpoptStepSolver final : public StepSolver {
   // The next solve re-solves the same rows after a change of the objective
   // alone (the friction bounds' fixed point): it starts from the last
   // solution's multipliers (the `warm_start` option); loose: to Ipopt's
-  // tol, not warm_tol (a pass far from the fixed point).
+  // loose_tol, not warm_tol (a pass far from the fixed point).
   void warm_next(bool loose) { warm_next_ = true, loose_next_ = loose; }
+  // The next solve, a step's first, to the loose tol when warm: its bounds
+  // are a prediction, and its solution only gives the next ones.
+  void first_loose(bool loose) { loose_next_ = loose; }
   // The last solve was a warm pass to the loose tol.
   bool last_loose() const { return last_loose_; }
   SolveOutcome solve(const StepView& v, StepProblem& problem, Vec& u) override;
@@ -88,6 +91,7 @@ class IpoptStepSolver final : public StepSolver {
   std::vector<BoundRow>* rows_ = nullptr;
   double force_scale_ = 1, speed_scale_ = 0, mu_init_ = 1e-6;
   double tol_ = 1e-10;
+  double loose_tol_ = 1e-8;  // a loose pass's tol (its solution gives the next friction bounds only)
   double warm_mu_init_ = 0, warm_push_ = 0, warm_tol_ = 0;  // the warm start's barrier parameter, pushes, tol
   int max_iter_ = 500, warm_max_iter_ = 15;
   bool warm_start_ = true, warm_next_ = false, loose_next_ = false, last_loose_ = false;
