@@ -25,6 +25,7 @@ IpoptEnforcement::IpoptEnforcement(const Scene& scene, CaseSection settings, con
     : disc_(disc), solver_(scene, settings, force_scale(scene, disc)) {
   friction_tol_ = settings.real("friction_tolerance", 1e-6, Range::positive(),
                                 "relative change of the friction bounds that ends the fixed point");
+  predict_ = settings.flag("predict_bounds", true);
   speed_scale_ = scene.largest_speed();
 }
 
@@ -80,12 +81,12 @@ void IpoptEnforcement::predict_forces(const std::vector<ContactRow>& rows, std::
   // second order in dt, and the passes to friction_tolerance fall with it.
   const ForceRecord* older = &accepted_[0];
   const ForceRecord* newer = &accepted_[1];
-  if (in_step_.time > newer->time && in_step_.time < solve_time_) older = newer, newer = &in_step_;
+  if (predict_ && in_step_.time > newer->time && in_step_.time < solve_time_) older = newer, newer = &in_step_;
   const double span = newer->time - older->time;
   const double ahead = solve_time_ - newer->time;
   // At most one span ahead: a step longer than the last (after cuts) is
   // extrapolated no further than the records' own spacing.
-  const double ratio = span > 0 && ahead > 0 ? std::min(ahead / span, 1.0) : 0.0;
+  const double ratio = predict_ && span > 0 && ahead > 0 ? std::min(ahead / span, 1.0) : 0.0;
   force.assign(rows.size(), 0.0);
   on_.assign(rows.size(), 0);
   for (std::size_t i = 0; i < rows.size(); ++i) {

@@ -89,6 +89,7 @@ class IpoptEnforcement final : public ContactEnforcement {
   ForceRecord in_step_;      // this step's latest settled solve (the half step's)
   double solve_time_ = 0;    // s: the configuration of the solve under way
   double speed_scale_ = 0, friction_tol_ = 0, friction_change_ = 0;
+  bool predict_ = true;  // predict_bounds: extrapolate (else the last step's end forces)
 };
 
 }  // namespace rpfem
