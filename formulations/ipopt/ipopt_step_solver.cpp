@@ -58,6 +58,7 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   if (!(speed_scale_ > 0))
     throw InputError(scene.file + ": enforcement 'ipopt' scales by the largest prescribed speed, but nothing moves");
   round_off_force_ = scene.solver.newton.tol_force;
+  secant_after_cut_ = scene.solver.newton.secant_after_cut;
   // One application for the run: its options are read once, each step
   // hands it a new NLP (a step's passes re-solve the same one).
   app_ = IpoptApplicationFactory();
@@ -250,7 +251,7 @@ NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const Vec& from, doub
     app_->ReOptimizeTNLP(GetRawPtr(nlp_));
     app_->Options()->SetStringValue("warm_start_same_structure", "no");
   } else {
-    nlp_ = new StepNlp(problem, nlp_rows_, from, force_scale_, speed_scale_, out, lambda);
+    nlp_ = new StepNlp(problem, nlp_rows_, from, force_scale_, speed_scale_, secant_after_cut_, out, lambda);
     app_->OptimizeTNLP(GetRawPtr(nlp_));
   }
   return out;

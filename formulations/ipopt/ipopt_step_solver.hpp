@@ -91,6 +91,7 @@ class IpoptStepSolver final : public StepSolver {
   std::vector<BoundRow>* rows_ = nullptr;
   double force_scale_ = 1, speed_scale_ = 0, mu_init_ = 1e-6;
   double tol_ = 1e-10;
+  bool secant_after_cut_ = true;  // the scene's solver.secant_after_cut (StepNlp)
   double loose_tol_ = 1e-8;  // a loose pass's tol (its solution gives the next friction bounds only)
   double warm_mu_init_ = 0, warm_push_ = 0, warm_tol_ = 0;  // the warm start's barrier parameter, pushes, tol
   int max_iter_ = 500, warm_max_iter_ = 15;

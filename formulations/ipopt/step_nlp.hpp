@@ -42,13 +42,16 @@ class StepNlp final : public Ipopt::TNLP {
   // relative to the contact load.
   // start_lambda: the rows' multipliers to start from (Ipopt's warm start,
   // used when its warm_start_init_point option is set), or null.
+  // secant_after_cut: the Hessian after an iteration whose line search cut
+  // the step is the secant tangent (intermediate_callback, eval_h).
   StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& start, double force_scale,
-          double speed_scale, NlpOutcome& out, const std::vector<double>* start_lambda = nullptr);
+          double speed_scale, bool secant_after_cut, NlpOutcome& out,
+          const std::vector<double>* start_lambda = nullptr);
   // The next solve of the same program (Ipopt's ReOptimizeTNLP, which
   // keeps the program's structure and the linear solver's analysis) from
   // another start, its outcome into `out`.
   void restart(const Vec& start, const std::vector<double>* start_lambda, NlpOutcome& out) {
-    start_ = start, start_lambda_ = start_lambda, out_ = &out, grad_valid_ = false;
+    start_ = start, start_lambda_ = start_lambda, out_ = &out, grad_valid_ = false, secant_next_ = false;
   }
 
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
@@ -68,6 +71,11 @@ class StepNlp final : public Ipopt::TNLP {
   bool get_scaling_parameters(Ipopt::Number& obj_scaling, bool& use_x_scaling, Ipopt::Index n,
                               Ipopt::Number* x_scaling, bool& use_g_scaling, Ipopt::Index m,
                               Ipopt::Number* g_scaling) override;
+  bool intermediate_callback(Ipopt::AlgorithmMode mode, Ipopt::Index iter, Ipopt::Number obj_value,
+                             Ipopt::Number inf_pr, Ipopt::Number inf_du, Ipopt::Number mu, Ipopt::Number d_norm,
+                             Ipopt::Number regularization_size, Ipopt::Number alpha_du, Ipopt::Number alpha_pr,
+                             Ipopt::Index ls_trials, const Ipopt::IpoptData* ip_data,
+                             Ipopt::IpoptCalculatedQuantities* ip_cq) override;
   void finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,
                          const Ipopt::Number* z_L, const Ipopt::Number* z_U, Ipopt::Index m,
                          const Ipopt::Number* g, const Ipopt::Number* lambda, Ipopt::Number obj_value,
@@ -79,6 +87,7 @@ class StepNlp final : public Ipopt::TNLP {
   Vec start_;
   const std::vector<double>* start_lambda_ = nullptr;
   double force_scale_ = 1, speed_scale_ = 1;
+  bool secant_after_cut_ = true;
   NlpOutcome* out_;
   std::vector<std::pair<Ipopt::Index, Ipopt::Index>> lower_;  // (row, col) of the Hessian's lower triangle
   Ipopt::Index jac_nnz_ = 0;
@@ -88,6 +97,7 @@ class StepNlp final : public Ipopt::TNLP {
   Vec grad_, grad_x_;
   double grad_scale_ = 0;
   bool grad_valid_ = false;
+  bool secant_next_ = false;  // the last iteration's line search cut its step
 };
 
 // Human-readable name of an Ipopt return status.
