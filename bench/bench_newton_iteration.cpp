@@ -7,8 +7,12 @@
 // second argument (model/element_loop.hpp). BM_FactorSolve: CHOLMOD
 // numeric factorization + solve of the same matrix (symbolic analysis
 // reused, as in the runs). BM_NewtonIteration: what newton_solve does per
-// iteration: tangent, factorization, solve, and one line-search trial
-// (residual and energy, from one element pass). BM_Cholmod*: CHOLMOD's
+// iteration: one line-search trial (residual and energy, with the
+// consistent tangent's element terms kept, from one element pass: the
+// trial accepted, it is the next iterate), the tangent scattered from those
+// terms, factorization and solve. BM_NewtonIterationTwoPasses: the same
+// with the tangent's own element pass (as a trial that is not taken, or
+// before StepProblem::keep_tangent_terms). BM_Cholmod*: CHOLMOD's
 // supernodal and simplicial factorizations; BM_Umfpack, BM_Klu*: the LU
 // factorizations. Counter peak_rss_MB: the process's peak memory.
 #include <Eigen/CholmodSupport>
@@ -136,6 +140,23 @@ void BM_NewtonIteration(benchmark::State& state) {
   f.ws.threads = static_cast<int>(state.range(1));
   Vec R, du;
   double scale;
+  for (auto _ : state) {
+    f.problem->keep_tangent_terms(true);
+    benchmark::DoNotOptimize(f.problem->residual_energy(f.u, R, scale));
+    f.problem->keep_tangent_terms(false);
+    f.problem->solve(f.u, true, R, du);
+    benchmark::DoNotOptimize(du.data());
+  }
+  counters(state, f);
+  state.counters["threads"] = f.ws.threads;
+  f.ws.threads = 1;
+}
+
+void BM_NewtonIterationTwoPasses(benchmark::State& state) {
+  Fixture& f = fixture(static_cast<int>(state.range(0)));
+  f.ws.threads = static_cast<int>(state.range(1));
+  Vec R, du;
+  double scale;
   f.problem->residual(f.u, R, scale);
   for (auto _ : state) {
     f.problem->solve(f.u, true, R, du);
@@ -207,6 +228,7 @@ BENCHMARK(BM_Assembly) SIZES_THREADS;
 BENCHMARK(BM_Part)->ArgsProduct({{22, 70, 223}, {0, 1, 2}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FactorSolve) SIZES;
 BENCHMARK(BM_NewtonIteration) SIZES_THREADS;
+BENCHMARK(BM_NewtonIterationTwoPasses) SIZES_THREADS;
 BENCHMARK(BM_CholmodSupernodal)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CholmodSimplicial)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CholmodSupernodalFourThreads)->Arg(22)->Arg(40)->Arg(70)->Arg(223)->Unit(benchmark::kMillisecond);

@@ -23,6 +23,7 @@ void add(RunOutcome& run, const RunOutcome& more) {
   run.factor_seconds += more.factor_seconds, run.solve_seconds += more.solve_seconds;
   run.residual_seconds += more.residual_seconds, run.contact_seconds += more.contact_seconds;
   run.pattern_builds += more.pattern_builds, run.factorizations += more.factorizations;
+  run.tangent_passes += more.tangent_passes, run.tangents_from_trials += more.tangents_from_trials;
   run.cholesky_fallbacks += more.cholesky_fallbacks;
   run.by_cholmod += more.by_cholmod, run.by_klu += more.by_klu, run.by_umfpack += more.by_umfpack;
   run.min_tangent_rcond = std::min(run.min_tangent_rcond, more.min_tangent_rcond);

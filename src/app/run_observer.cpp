@@ -288,6 +288,8 @@ std::string RunObserver::finish(const RunOutcome& out) {
                                {"factorization", out.factor_seconds},
                                {"triangular_solves", out.solve_seconds}});
   summary_.insert_or_assign("linear_solver", toml::table{{"pattern_builds", out.pattern_builds},
+                                                          {"tangent_passes", out.tangent_passes},
+                                                          {"tangents_from_trials", out.tangents_from_trials},
                                                           {"factorizations", out.factorizations},
                                                           {"cholesky_fallbacks", out.cholesky_fallbacks},
                                                           {"by_cholmod", out.by_cholmod},

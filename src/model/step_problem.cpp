@@ -1,6 +1,7 @@
 #include "model/step_problem.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "core/timing.hpp"
@@ -76,6 +77,7 @@ StepProblem::StepProblem(const StepView& view, const std::vector<std::array<doub
       fext_(external_force), contact_(contact), ws_(ws) {}
 
 void StepProblem::set_constraints(const std::vector<NodeConstraint>& constraints) {
+  terms_kept_ = false;  // u maps to other velocities
   const Mesh& m = *view_.mesh;
   ws_.dofs = DofMap(m.num_nodes(), constraints);
   std::vector<std::vector<Index>> couplings;
@@ -129,7 +131,8 @@ double StepProblem::energy_from_elements(const std::vector<Vec2>& v, double elem
   return e + sink.total;
 }
 
-double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy) const {
+double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy,
+                                 bool keep_terms) const {
   auto t0 = Clock::now();
   F.assign(v.size(), Vec2::Zero());
   const Index ne = view_.mesh->num_elements();
@@ -137,9 +140,11 @@ double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& 
   std::vector<double>& pi = ws_.element_values;
   grad.resize(ne);
   if (element_energy) pi.resize(ne);
+  if (keep_terms) ws_.terms.resize(ne);
   for_each_element(ne, ws_.threads, [&](Index el) {
-    ElementTerms t;
-    rigid_plastic_terms(element_input(el, v), Tangent::None, t);
+    ElementTerms local;
+    ElementTerms& t = keep_terms ? ws_.terms[el] : local;
+    rigid_plastic_terms(element_input(el, v), keep_terms ? Tangent::Consistent : Tangent::None, t);
     grad[el] = t.grad;
     if (element_energy) pi[el] = t.energy;
   });
@@ -179,18 +184,24 @@ void reduce_forces(const DofMap& dofs, const std::vector<Vec2>& F, Vec& R) {
 
 }  // namespace
 
+double StepProblem::forces_at(const Vec& u, std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy) const {
+  ws_.dofs.expand(u, v);
+  if (keep_terms_) terms_kept_ = false;  // ws_.terms are about to be overwritten
+  const double scale = nodal_forces(v, F, element_energy, keep_terms_);
+  if (keep_terms_) terms_u_ = u, terms_kept_ = true;
+  return scale;
+}
+
 void StepProblem::residual(const Vec& u, Vec& R, double& scale) const {
   std::vector<Vec2> v, F;
-  ws_.dofs.expand(u, v);
-  scale = nodal_forces(v, F);
+  scale = forces_at(u, v, F, nullptr);
   reduce_forces(ws_.dofs, F, R);
 }
 
 double StepProblem::residual_energy(const Vec& u, Vec& R, double& scale) const {
   std::vector<Vec2> v, F;
-  ws_.dofs.expand(u, v);
   double elements = 0;
-  scale = nodal_forces(v, F, &elements);
+  scale = forces_at(u, v, F, &elements);
   reduce_forces(ws_.dofs, F, R);
   return energy_from_elements(v, elements, Clock::now());
 }
@@ -203,8 +214,16 @@ const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
   const Tangent kind = consistent ? Tangent::Consistent : Tangent::Secant;
   const Index ne = view_.mesh->num_elements();
   std::vector<ElementTerms>& terms = ws_.terms;
-  terms.resize(ne);
-  for_each_element(ne, ws_.threads, [&](Index el) { rigid_plastic_terms(element_input(el, v), kind, terms[el]); });
+  // The terms a residual at this very u kept (keep_tangent_terms): the
+  // same bits as computing them here.
+  const bool kept = consistent && terms_kept_ && terms_u_.size() == u.size() &&
+                    std::memcmp(terms_u_.data(), u.data(), sizeof(double) * u.size()) == 0;
+  terms_kept_ = false;
+  ++(kept ? ws_.tangents_from_trials : ws_.tangent_passes);
+  if (!kept) {
+    terms.resize(ne);
+    for_each_element(ne, ws_.threads, [&](Index el) { rigid_plastic_terms(element_input(el, v), kind, terms[el]); });
+  }
   // The contact's force nodes: their elements' force and, for a
   // consistent tangent, their Hessian rows, gathered in the same loop. A
   // secant matrix is no derivative (K_s v = F): a secant iteration leaves
@@ -248,11 +267,13 @@ bool StepProblem::solve(const Vec& u, bool consistent, const Vec& R, Vec& du) {
 
 void StepProblem::viscous_predictor(double rate, Vec& u) {
   viscous_floor_ = rate;
+  terms_kept_ = false;
   Vec R, du;
   double scale;
   residual(u, R, scale);
   const bool ok = solve(u, false, R, du);  // linear problem: one solve is exact
   viscous_floor_ = 0;
+  terms_kept_ = false;
   if (ok && du.allFinite()) u += du;
 }
 
@@ -270,6 +291,7 @@ NewtonSystem StepProblem::newton_system() {
   if (s.energy)
     s.residual_energy = [this](const Vec& u, Vec& R, double& scale) { return residual_energy(u, R, scale); };
   s.solve = [this](const Vec& u, bool c, const Vec& R, Vec& du) { return solve(u, c, R, du); };
+  s.keep_tangent = [this](bool on) { keep_tangent_terms(on); };
   s.reuse = [this](const Vec& R, Vec& du) {
     if (!ws_.linear.holds(ws_.assembler.pattern_version(), R.size())) return false;
     du = ws_.linear.solve(-R);

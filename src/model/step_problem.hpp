@@ -36,6 +36,9 @@ struct SolverWorkspace {
   std::uint64_t layout = 0;
   bool has_pattern = false;
   int pattern_builds = 0;
+  // Tangents whose element terms were computed by tangent() itself, and
+  // those scattered from a residual's kept terms (keep_tangent_terms).
+  int tangent_passes = 0, tangents_from_trials = 0;
   double assembly_seconds = 0;  // s: the elements' tangent, scattered into the matrix
   double residual_seconds = 0;  // s: the elements' forces and energies (residual, line search)
   double contact_seconds = 0;   // s: the contact's terms, rows and settling
@@ -62,11 +65,20 @@ class StepProblem {
   // floor (set_force_floor).
   // With element_energy, also the sum of the elements' Pi in element order
   // (energy()'s first term, bit for bit), from the same element pass.
-  double nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy = nullptr) const;
+  // With keep_terms, each element's consistent tangent terms (the same
+  // gradient and energy bits) go to the workspace's terms.
+  double nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy = nullptr,
+                      bool keep_terms = false) const;
   void residual(const Vec& u, Vec& R, double& scale) const;
   // residual() and energy() from one element pass (a line search's trial):
   // returns Pi(u), the same bits as energy(u).
   double residual_energy(const Vec& u, Vec& R, double& scale) const;
+  // While on, residual() and residual_energy() also compute the elements'
+  // consistent tangent terms at their u (the gradient and energy are the
+  // same bits either way) and keep them, and a tangent(u, true) at that
+  // very u scatters those instead of a second element pass: Newton's
+  // full-step trial, which is usually the next iterate.
+  void keep_tangent_terms(bool on) { keep_terms_ = on; }
   // Assembles the tangent (consistent or secant) at u into the workspace.
   const SpMat& tangent(const Vec& u, bool consistent);
   bool solve(const Vec& u, bool consistent, const Vec& R, Vec& du);
@@ -79,7 +91,7 @@ class StepProblem {
   // the Newton iteration when no previous velocity field exists.
   void viscous_predictor(double rate, Vec& u);
   double limiting_strain_rate() const { return epsdot_lim_; }
-  void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate; }
+  void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate, terms_kept_ = false; }
   // N: the least force scale. A step in which nothing is loaded (bodies
   // approaching before their contact closes, a body at rest under a moving
   // virtual rigid one) has element forces at round-off only, and a
@@ -91,6 +103,9 @@ class StepProblem {
   // power, plus the contact's terms (energy()'s and residual_energy()'s
   // end); the time from t0 counts as the residual's, then the contact's.
   double energy_from_elements(const std::vector<Vec2>& v, double elements, Clock::time_point t0) const;
+  // nodal_forces() of residual() and residual_energy() at u, keeping the
+  // tangent terms where keep_terms_ is on.
+  double forces_at(const Vec& u, std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy) const;
 
   const StepView& view_;
   const std::vector<std::array<double, 4>>& strain_;
@@ -101,6 +116,11 @@ class StepProblem {
   SolverWorkspace& ws_;
   double viscous_floor_ = 0;
   double force_floor_ = 0;
+  bool keep_terms_ = false;
+  // ws_.terms hold the consistent tangent's element terms at terms_u_ (this
+  // problem's elements, limiting rate and constraints).
+  mutable bool terms_kept_ = false;
+  mutable Vec terms_u_;
 };
 
 // Consistent nodal external forces of the tractions on the current

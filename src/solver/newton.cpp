@@ -67,12 +67,22 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
     bool accepted = false;
     for (int h = 0; h <= s.max_halvings; ++h) {
       trial = u + step * du;
+      // Accepted, a full step is the next iterate, whose tangent is the
+      // consistent one (no cut) unless the direct iterations go on, or no
+      // next iteration follows: at the iteration limit, or where the error
+      // estimate below (theta |du| of two full Newton steps) already meets
+      // tol_velocity.
+      const bool keep = sys.keep_tangent && h == 0 && it + 1 > s.direct_iterations && it < s.max_iterations &&
+                        !(!frozen && !secant && last_full > 0 && newton_correction < 0.5 * last_full &&
+                          newton_correction / last_full * newton_correction <= s.tol_velocity);
+      if (keep) sys.keep_tangent(true);
       if (!use_energy)
         sys.residual(trial, Rtrial, trial_scale);
       else if (sys.residual_energy)
         trial_energy = sys.residual_energy(trial, Rtrial, trial_scale);
       else
         sys.residual(trial, Rtrial, trial_scale), trial_energy = sys.energy(trial);
+      if (keep) sys.keep_tangent(false);
       if (use_energy) {
         accepted = std::isfinite(trial_energy) && trial_energy <= energy + s.armijo * step * slope;
         // Energy changes at round-off (a converging virtual rigid body's

@@ -62,6 +62,11 @@ struct NewtonSystem {
   // Solves K du = -R with the factorization of the last solve (of this or
   // an earlier solve of the same system); false if none is held. Optional.
   std::function<bool(const Vec& R, Vec& du)> reuse;
+  // While on, residual evaluations also prepare a consistent tangent at
+  // their u (one element pass for both; the same bits). Optional: Newton
+  // turns it on for a full step's trial when the next iteration would
+  // assemble the consistent tangent there.
+  std::function<void(bool on)> keep_tangent;
 };
 
 struct NewtonResult {

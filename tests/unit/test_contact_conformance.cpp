@@ -499,4 +499,75 @@ TEST(Conformance, ResidualAndEnergyInOnePassAreTheTwoCallsBits) {
   }
 }
 
+// A Newton full-step trial keeps the consistent tangent's element terms
+// (StepProblem::keep_tangent_terms): the trial's forces and energy are the
+// bits of a plain one, and the tangent at that very u, scattered from them,
+// is the bits of one from its own element pass; a tangent at another u,
+// after a change of the limiting rate or of the constraints, or a secant
+// one, makes its own pass. With a potential (penalty, friction factor) and
+// with Coulomb under direct (its force nodes read the elements' forces and
+// Hessian rows in the tangent).
+TEST(Conformance, KeptTangentTermsGiveTheTangentsBits) {
+  for (const auto& [law, enforcement] : {std::pair<std::string, std::string>{"factor", "penalty"},
+                                         std::pair<std::string, std::string>{"coulomb", "direct"}}) {
+    SCOPED_TRACE(law + " under " + enforcement);
+    ContactRun run(die_block(friction_table(law)), enforcement, "");
+    ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
+    const Scene& scene = *run.scene;
+    NextStep next(run);
+    StepProblem& problem = *next.problem;
+    std::vector<Vec2> v0 = run.out.steps.back().v, v1 = v0;
+    for (Index i = 0; i < scene.mesh.num_nodes(); ++i) v1[i] += 0.05 * Vec2(std::sin(1.0 + i), std::cos(2.0 * i));
+    const Vec u0 = problem.dofs().reduce(v0), u1 = problem.dofs().reduce(v1);
+    const auto bits = [](const SpMat& a, const SpMat& b) {
+      return a.nonZeros() == b.nonZeros() && (Eigen::MatrixXd(a) - Eigen::MatrixXd(b)).cwiseAbs().maxCoeff() == 0.0;
+    };
+    // Direct's Coulomb bounds are live from a solve's second tangent on
+    // (its first takes the last solve's): the tangents compared are later.
+    problem.tangent(u1, true);
+    const SpMat fresh = problem.tangent(u1, true);
+    const SolverWorkspace& ws = next.ws;
+    Vec R_plain, R_kept, R0;
+    double s_plain = 0, s_kept = 0, s0 = 0;
+    problem.residual(u1, R_plain, s_plain);
+    problem.keep_tangent_terms(true);
+    problem.residual(u1, R_kept, s_kept);
+    problem.keep_tangent_terms(false);
+    EXPECT_EQ((R_plain - R_kept).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ(s_plain, s_kept);
+    problem.residual(u0, R0, s0);  // a plain residual elsewhere leaves the kept terms
+    int passes = ws.tangent_passes, from_trials = ws.tangents_from_trials;
+    EXPECT_TRUE(bits(problem.tangent(u1, true), fresh));
+    EXPECT_EQ(ws.tangents_from_trials, from_trials + 1);
+    EXPECT_EQ(ws.tangent_passes, passes);
+    // Kept terms serve one tangent only, at their u, consistent, with the
+    // same limiting rate and constraints.
+    const auto keep_at = [&](const Vec& u) {
+      problem.keep_tangent_terms(true);
+      problem.residual(u, R0, s0);
+      problem.keep_tangent_terms(false);
+    };
+    from_trials = ws.tangents_from_trials;
+    EXPECT_TRUE(bits(problem.tangent(u1, true), fresh));  // used already
+    keep_at(u0);
+    EXPECT_TRUE(bits(problem.tangent(u1, true), fresh));  // another u
+    keep_at(u1);
+    const SpMat secant = problem.tangent(u1, false);
+    EXPECT_FALSE(bits(secant, fresh));
+    keep_at(u1);
+    std::vector<NodeConstraint> cons;
+    run.contact->constraints(next.view, cons);
+    problem.set_constraints(cons);
+    EXPECT_TRUE(bits(problem.tangent(u1, true), fresh));
+    EXPECT_EQ(ws.tangents_from_trials, from_trials);
+    keep_at(u1);
+    problem.set_limiting_strain_rate(0.5 * problem.limiting_strain_rate());
+    const SpMat slower = problem.tangent(u1, true);
+    EXPECT_EQ(ws.tangents_from_trials, from_trials);
+    keep_at(u1);
+    EXPECT_TRUE(bits(problem.tangent(u1, true), slower));
+    EXPECT_EQ(ws.tangents_from_trials, from_trials + 1);
+  }
+}
+
 }  // namespace
