@@ -65,7 +65,11 @@ bool StepNlp::eval_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number
   // evaluated f at: both from one element pass (the same bits as the two
   // calls, test Conformance.ResidualAndEnergyInOnePassAreTheTwoCallsBits).
   grad_x_ = map(n, x);
+  // The same element pass keeps the consistent tangent's element terms:
+  // an accepted trial is where Ipopt asks for the Hessian next.
+  problem_->keep_tangent_terms(true);
   obj_value = problem_->residual_energy(grad_x_, grad_, grad_scale_);
+  problem_->keep_tangent_terms(false);
   grad_valid_ = true;
   return std::isfinite(obj_value);
 }
