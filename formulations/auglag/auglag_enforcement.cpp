@@ -127,10 +127,10 @@ void AugLagEnforcement::columns(std::vector<NamedValue>& out) const {
 
 void AugLagEnforcement::derived(std::vector<NamedValue>& out) const {
   derived_betas("auglag", out);
-  out.push_back({"auglag.tolerance", tol_primal_});
-  out.push_back({"auglag.complementarity_tolerance", tol_compl_});
-  out.push_back({"auglag.max_augmentations", double(max_augmentations_)});
-  out.push_back({"auglag.aitken", aitken_ ? 1.0 : 0.0});
+  out.insert(out.end(), {{"auglag.tolerance", tol_primal_},
+                         {"auglag.complementarity_tolerance", tol_compl_},
+                         {"auglag.max_augmentations", double(max_augmentations_)},
+                         {"auglag.aitken", aitken_ ? 1.0 : 0.0}});
 }
 
 }  // namespace rpfem

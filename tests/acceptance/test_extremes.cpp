@@ -39,7 +39,7 @@ std::string quoted(const std::string& s) {
 // Runs one of the plan's runs into dir; returns the exit code (-1: killed).
 int run(const ExpectedRun& r, const std::string& dir) {
   std::string args = "run";
-  for (const auto& a : r.arguments()) args += " " + quoted(a);
+  for (const auto& a : r.arguments()) args.append(" ").append(quoted(a));
   return accept::rpfem(args + " --out " + quoted(dir), quoted(dir + ".log"));
 }
 
