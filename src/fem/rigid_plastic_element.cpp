@@ -18,10 +18,11 @@ const Eigen::Matrix4d& effective_rate_metric() {
 namespace {
 
 FlowPoint material_point(const RigidPlasticInput& in, int q, double rate) {
+  const double sy = std::isnan(in.yield[q]) ? in.law->yield(in.strain[q]) : in.yield[q];
   if (in.viscous_floor <= 0) {
-    FlowPoint f = flow_point(*in.law, in.strain[q], rate, in.epsdot_lim);
+    FlowPoint f = flow_point_at_yield(*in.law, sy, rate, in.epsdot_lim);
     if (in.regularization > 0) {
-      const double c = in.regularization * in.law->yield(in.strain[q]);
+      const double c = in.regularization * sy;
       f.phi += 0.5 * c * rate * rate;
       f.sigma += c * rate;
       f.dsigma += c;
@@ -30,7 +31,7 @@ FlowPoint material_point(const RigidPlasticInput& in, int q, double rate) {
   }
   // Cold-start predictor: linear viscous everywhere, with the viscosity of
   // the material at the given rate.
-  const double c = flow_point(*in.law, in.strain[q], in.viscous_floor, in.epsdot_lim).sigma / in.viscous_floor;
+  const double c = flow_point_at_yield(*in.law, sy, in.viscous_floor, in.epsdot_lim).sigma / in.viscous_floor;
   FlowPoint f;
   f.phi = 0.5 * c * rate * rate;
   f.sigma = c * rate;

@@ -12,6 +12,7 @@
 // differs from the centre value.
 #pragma once
 #include <array>
+#include <cmath>
 
 #include "fem/quad4.hpp"
 #include "material/flow_stress.hpp"
@@ -23,6 +24,10 @@ struct RigidPlasticInput {
   Vec8 v;                         // node velocities, mm/s
   std::array<double, 4> strain{};  // effective strain at the 2x2 points
   const FlowStressLaw* law = nullptr;
+  // MPa: law->yield(strain[q]) where the caller has it (a step's strains
+  // are fixed, and an element pass would take the power anew at every
+  // point); NaN: taken here.
+  std::array<double, 4> yield{NAN, NAN, NAN, NAN};
   Geometry geometry = Geometry::Axisymmetric;
   double alpha = 0;       // volumetric penalty, MPa s
   double epsdot_lim = 0;  // limiting strain rate, 1/s

@@ -8,7 +8,10 @@ namespace rpfem {
 double FlowStressLaw::yield(double eps_bar) const { return K * std::pow(eps0 + eps_bar, n); }
 
 FlowPoint flow_point(const FlowStressLaw& law, double eps_bar, double epsdot, double epsdot_lim) {
-  const double sy = law.yield(eps_bar);
+  return flow_point_at_yield(law, law.yield(eps_bar), epsdot, epsdot_lim);
+}
+
+FlowPoint flow_point_at_yield(const FlowStressLaw& law, double sy, double epsdot, double epsdot_lim) {
   // Rate factor g(r) = (r/rate_ref)^m and its integral G(r) = int_0^r g.
   auto g = [&](double r) { return law.m == 0 ? 1.0 : std::pow(r / law.rate_ref, law.m); };
   auto G = [&](double r) {

@@ -34,6 +34,9 @@ struct FlowPoint {
 // eps_bar: accumulated effective strain; epsdot: effective strain rate (>= 0);
 // epsdot_lim: limiting strain rate (> 0).
 FlowPoint flow_point(const FlowStressLaw& law, double eps_bar, double epsdot, double epsdot_lim);
+// The same at the point's yield stress sy = law.yield(eps_bar) (MPa), where
+// the caller has it already (a step's strains are fixed): the same bits.
+FlowPoint flow_point_at_yield(const FlowStressLaw& law, double sy, double epsdot, double epsdot_lim);
 
 // A named entry of the material library (K in MPa, converted from the paper's
 // kgf/mm^2 at this point of input).

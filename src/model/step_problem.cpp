@@ -74,7 +74,12 @@ StepProblem::StepProblem(const StepView& view, const std::vector<std::array<doub
                          const std::vector<Vec2>& external_force, ContactFormulation& contact,
                          SolverWorkspace& ws)
     : view_(view), strain_(strain), materials_(materials), epsdot_lim_(epsdot_lim),
-      fext_(external_force), contact_(contact), ws_(ws) {}
+      fext_(external_force), contact_(contact), ws_(ws) {
+  // The points' yield stresses, once for the problem's element passes.
+  yield_.resize(strain_.size());
+  for (std::size_t e = 0; e < strain_.size(); ++e)
+    for (int q = 0; q < 4; ++q) yield_[e][q] = materials_[e].law->yield(strain_[e][q]);
+}
 
 void StepProblem::set_constraints(const std::vector<NodeConstraint>& constraints) {
   terms_kept_ = false;  // u maps to other velocities
@@ -99,6 +104,7 @@ RigidPlasticInput StepProblem::element_input(Index e, const std::vector<Vec2>& v
     in.v.segment<2>(2 * a) = v[q[a]];
   }
   in.strain = strain_[e];
+  in.yield = yield_[e];
   in.law = materials_[e].law;
   in.alpha = materials_[e].alpha;
   in.regularization = materials_[e].regularization;

@@ -109,6 +109,7 @@ class StepProblem {
 
   const StepView& view_;
   const std::vector<std::array<double, 4>>& strain_;
+  std::vector<std::array<double, 4>> yield_;  // MPa, law.yield(strain) per element and point
   const std::vector<ElementMaterial>& materials_;
   double epsdot_lim_;
   const std::vector<Vec2>& fext_;
