@@ -113,8 +113,9 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
     rows.push_back(std::move(r));
     row_of.push_back(j);
   }
-  // Ipopt keeps a program's structure (and MUMPS its symbolic analysis)
-  // when its application is handed the same TNLP with the same structure:
+  // Ipopt keeps a program's structure (its spaces, index maps and caches;
+  // Ipopt 3.11's MUMPS interface still analyses the pattern at every
+  // solve) when its application is handed the same TNLP with the same structure:
   // the same unknowns, each row on the same unknowns in the same order,
   // and the same pattern of the Hessian. A pass of the same solve
   // re-solves the same program; a new solve (set_rows starts each, on a
@@ -281,7 +282,7 @@ NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const Vec& from, doub
   NlpOutcome out;
   if (IsValid(p.nlp)) {
     // The same program again: Ipopt's warm_start_same_structure keeps its
-    // linear solver's structure and MUMPS's symbolic analysis.
+    // spaces and the linear system's structure.
     p.nlp->restart(from, lambda, out);
     p.app->Options()->SetStringValue("warm_start_same_structure", "yes");
     p.app->ReOptimizeTNLP(GetRawPtr(p.nlp));

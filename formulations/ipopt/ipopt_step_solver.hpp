@@ -99,7 +99,7 @@ class IpoptStepSolver final : public StepSolver {
   bool warm_start_ = true, warm_next_ = false, loose_next_ = false, last_loose_ = false;
   int warm_failures_ = 0;  // warm starts solved again from the plain start
   bool keep_programs_ = true;  // a new solve re-solves a kept program of its structure (else builds one)
-  int programs_built_ = 0;     // programs handed to Ipopt new (each with MUMPS's symbolic analysis)
+  int programs_built_ = 0;     // programs handed to Ipopt new (its spaces and maps built for each)
   std::vector<double> last_lambda_;  // the last solve's row multipliers
   // A program kept between solves, with the application that solved it
   // last (Ipopt re-solves a TNLP of the same structure only in the

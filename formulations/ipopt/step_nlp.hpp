@@ -57,7 +57,7 @@ class StepNlp final : public Ipopt::TNLP {
   // values in the vector this program was built on) kept where its
   // structure is this one's: the rows' unknowns (the caller's check) and
   // the Hessian's pattern, of K (the new problem's tangent). Then Ipopt
-  // re-solves it with this program's structure and MUMPS's analysis
+  // re-solves it with this program's structure
   // (warm_start_same_structure); returns false, and changes nothing, where
   // the Hessian's pattern differs.
   bool rebind(StepProblem& problem, const SpMat& K);
