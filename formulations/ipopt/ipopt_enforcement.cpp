@@ -220,7 +220,6 @@ void IpoptEnforcement::columns(std::vector<NamedValue>& out) const {
   out.push_back({"kkt_round_off", k.round_off});
   out.push_back({"friction_change", friction_change_});
   out.push_back({"warm_fallbacks", static_cast<double>(solver_.warm_failures())});
-  out.push_back({"ipopt_programs", static_cast<double>(solver_.programs_built())});
 }
 
 void IpoptEnforcement::derived(std::vector<NamedValue>& out) const {

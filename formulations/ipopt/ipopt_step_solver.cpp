@@ -54,38 +54,33 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   warm_push_ = settings.real("warm_bound_push", 1e-6, Range::positive(),
                              "Ipopt's warm_start bound, slack and multiplier pushes");
   warm_max_iter_ = settings.integer("warm_max_iter", 15, 1, 100000);
-  keep_programs_ = settings.flag("keep_programs", true);
   speed_scale_ = scene.largest_speed();
   if (!(speed_scale_ > 0))
     throw InputError(scene.file + ": enforcement 'ipopt' scales by the largest prescribed speed, but nothing moves");
   round_off_force_ = scene.solver.newton.tol_force;
   secant_after_cut_ = scene.solver.newton.secant_after_cut;
-  // One application per program slot for the run: its options are read
-  // once, each step hands it a program (a step's passes re-solve the same
-  // one, and a later solve of the same structure re-solves it with new
-  // values).
-  for (Program& p : programs_) {
-    p.app = IpoptApplicationFactory();
-    auto& o = *p.app->Options();
-    o.SetStringValue("sb", "yes");
-    o.SetIntegerValue("print_level", print_level);
-    o.SetNumericValue("tol", tol_);
-    o.SetNumericValue("bound_relax_factor", relax);
-    o.SetIntegerValue("max_iter", max_iter_);
-    o.SetStringValue("mu_strategy", mu_strategy);
-    o.SetNumericValue("mu_init", mu_init_);
-    o.SetStringValue("linear_solver", linear_solver);
-    o.SetIntegerValue("mumps_scaling", mumps_scaling);
-    o.SetIntegerValue("min_refinement_steps", min_refinement);
-    // Read by Ipopt only with warm_start_init_point (solve()).
-    o.SetNumericValue("warm_start_bound_push", warm_push_);
-    o.SetNumericValue("warm_start_slack_bound_push", warm_push_);
-    o.SetNumericValue("warm_start_mult_bound_push", warm_push_);
-    o.SetStringValue("jac_d_constant", "yes");
-    o.SetStringValue("nlp_scaling_method", "user-scaling");
-    if (p.app->Initialize() != Ipopt::Solve_Succeeded)
-      throw InputError(scene.file + ": [formulations.ipopt]: Ipopt refused the options");
-  }
+  // One application for the run: its options are read once, each step
+  // hands it a new NLP (a step's passes re-solve the same one).
+  app_ = IpoptApplicationFactory();
+  auto& o = *app_->Options();
+  o.SetStringValue("sb", "yes");
+  o.SetIntegerValue("print_level", print_level);
+  o.SetNumericValue("tol", tol_);
+  o.SetNumericValue("bound_relax_factor", relax);
+  o.SetIntegerValue("max_iter", max_iter_);
+  o.SetStringValue("mu_strategy", mu_strategy);
+  o.SetNumericValue("mu_init", mu_init_);
+  o.SetStringValue("linear_solver", linear_solver);
+  o.SetIntegerValue("mumps_scaling", mumps_scaling);
+  o.SetIntegerValue("min_refinement_steps", min_refinement);
+  // Read by Ipopt only with warm_start_init_point (solve()).
+  o.SetNumericValue("warm_start_bound_push", warm_push_);
+  o.SetNumericValue("warm_start_slack_bound_push", warm_push_);
+  o.SetNumericValue("warm_start_mult_bound_push", warm_push_);
+  o.SetStringValue("jac_d_constant", "yes");
+  o.SetStringValue("nlp_scaling_method", "user-scaling");
+  if (app_->Initialize() != Ipopt::Solve_Succeeded)
+    throw InputError(scene.file + ": [formulations.ipopt]: Ipopt refused the options");
 }
 
 void IpoptStepSolver::derived(std::vector<NamedValue>& out) const {
@@ -113,47 +108,18 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
     rows.push_back(std::move(r));
     row_of.push_back(j);
   }
-  // Ipopt keeps a program's structure (its spaces, index maps and caches;
-  // Ipopt 3.11's MUMPS interface still analyses the pattern at every
-  // solve) when its application is handed the same TNLP with the same structure:
-  // the same unknowns, each row on the same unknowns in the same order,
-  // and the same pattern of the Hessian. A pass of the same solve
-  // re-solves the same program; a new solve (set_rows starts each, on a
-  // new StepProblem) re-solves the slot's program whose structure it has
-  // (the Hessian's pattern checked on the new problem's tangent), with new
-  // values: the midpoint scheme's half-step and end solves, whose rows
-  // differ, each keep theirs while no row lands, leaves or is remeshed.
-  // Otherwise the least recently used slot takes a new program.
-  const auto same_unknowns = [](const LinearRow& a, const LinearRow& b) {
-    return a.terms.size() == b.terms.size() &&
-           std::equal(a.terms.begin(), a.terms.end(), b.terms.begin(),
-                      [](const auto& p, const auto& q) { return p.first == q.first; });
-  };
-  const auto same_structure = [&](const Program& p) {
-    return IsValid(p.nlp) && u.size() == p.unknowns && rows.size() == p.rows.size() &&
-           std::equal(rows.begin(), rows.end(), p.rows.begin(), same_unknowns);
-  };
-  if (new_problem_) {
-    const SpMat* K = nullptr;
-    int found = -1;
-    for (int k : {current_, 1 - current_})
-      if (keep_programs_ && same_structure(programs_[k])) {
-        if (!K) K = &problem.tangent(u, true);
-        if (programs_[k].nlp->rebind(problem, *K)) {
-          found = k;
-          break;
-        }
-      }
-    current_ = found >= 0 ? found : 1 - current_;
-    if (found < 0) programs_[current_].nlp = nullptr;
-    new_problem_ = false;
-  } else if (!same_structure(programs_[current_])) {
-    programs_[current_].nlp = nullptr;
+  // A pass of the same solve (set_rows starts each) re-solves the same
+  // program: Ipopt keeps its structure (its spaces and index maps; Ipopt
+  // 3.11's MUMPS interface analyses the pattern at every solve regardless)
+  // when handed the same TNLP.
+  const auto same = [](const LinearRow& a, const LinearRow& b) { return a.lower == b.lower && a.terms == b.terms; };
+  if (IsNull(nlp_) || u.size() != nlp_unknowns_ || rows.size() != nlp_rows_.size() ||
+      !std::equal(rows.begin(), rows.end(), nlp_rows_.begin(), same)) {
+    nlp_ = nullptr;
+    nlp_rows_ = std::move(rows);
+    nlp_unknowns_ = u.size();
   }
-  Program& program = programs_[current_];
-  program.rows = std::move(rows);  // the program's rows_ refers to this vector
-  program.unknowns = u.size();
-  const std::vector<LinearRow>& rows_now = program.rows;
+  const std::vector<LinearRow>& rows_now = nlp_rows_;
   const bool cold = !(last_scale_ > 0);
   // Where the solution is near a known one, Ipopt starts from its
   // multipliers too, near the central path (warm_mu_init, warm_bound_push)
@@ -200,10 +166,10 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
     if (cold) {
       Vec R;
       problem.residual(u, R, last_scale_);
-      app().Options()->SetNumericValue("mu_init", kColdMuInit);
+      app_->Options()->SetNumericValue("mu_init", kColdMuInit);
     }
     out = optimize(problem, u, last_scale_);
-    if (cold) app().Options()->SetNumericValue("mu_init", mu_init_);
+    if (cold) app_->Options()->SetNumericValue("mu_init", mu_init_);
     ok = conclude(v, problem, row_of, out, result);
   }
   if (!ok) return result;
@@ -222,16 +188,15 @@ bool IpoptStepSolver::conclude(const StepView& v, StepProblem& problem, const st
   // (a first point contact) and the checked complementarity misses
   // kAcceptKkt, it solves once more from its solution with the tolerance
   // of the solution's forces.
-  const Program& program = programs_[current_];
-  const auto finite = [&](const NlpOutcome& o) { return o.u.size() == program.unknowns && o.u.allFinite(); };
+  const auto finite = [&](const NlpOutcome& o) { return o.u.size() == nlp_unknowns_ && o.u.allFinite(); };
   result.iterations += out.iterations;
   if (finite(out)) {
-    last_scale_ = measure(v, problem, program.rows, row_of, out);
+    last_scale_ = measure(v, problem, nlp_rows_, row_of, out);
     if (out.status == Ipopt::SUCCESS && kkt_.complementarity > kAcceptKkt) {
       const Vec from = out.u;
       out = optimize(problem, from, last_scale_);
       result.iterations += out.iterations;
-      if (finite(out)) last_scale_ = measure(v, problem, program.rows, row_of, out);
+      if (finite(out)) last_scale_ = measure(v, problem, nlp_rows_, row_of, out);
     }
   }
   if (!finite(out)) {
@@ -268,7 +233,7 @@ bool IpoptStepSolver::conclude(const StepView& v, StepProblem& problem, const st
 }
 
 void IpoptStepSolver::use_warm_start(bool on, double tol) {
-  auto& o = *app().Options();
+  auto& o = *app_->Options();
   o.SetStringValue("warm_start_init_point", on ? "yes" : "no");
   o.SetNumericValue("mu_init", on ? warm_mu_init_ : mu_init_);
   o.SetIntegerValue("max_iter", on ? warm_max_iter_ : max_iter_);
@@ -277,20 +242,18 @@ void IpoptStepSolver::use_warm_start(bool on, double tol) {
 
 NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const Vec& from, double force,
                                      const std::vector<double>* lambda) {
-  Program& p = programs_[current_];
-  if (force > 0) p.app->Options()->SetNumericValue("compl_inf_tol", kComplTolFactor * kAcceptKkt * force * speed_scale_);
+  if (force > 0) app_->Options()->SetNumericValue("compl_inf_tol", kComplTolFactor * kAcceptKkt * force * speed_scale_);
   NlpOutcome out;
-  if (IsValid(p.nlp)) {
+  if (IsValid(nlp_)) {
     // The same program again: Ipopt's warm_start_same_structure keeps its
     // spaces and the linear system's structure.
-    p.nlp->restart(from, lambda, out);
-    p.app->Options()->SetStringValue("warm_start_same_structure", "yes");
-    p.app->ReOptimizeTNLP(GetRawPtr(p.nlp));
-    p.app->Options()->SetStringValue("warm_start_same_structure", "no");
+    nlp_->restart(from, lambda, out);
+    app_->Options()->SetStringValue("warm_start_same_structure", "yes");
+    app_->ReOptimizeTNLP(GetRawPtr(nlp_));
+    app_->Options()->SetStringValue("warm_start_same_structure", "no");
   } else {
-    p.nlp = new StepNlp(problem, p.rows, from, force_scale_, speed_scale_, secant_after_cut_, out, lambda);
-    ++programs_built_;
-    p.app->OptimizeTNLP(GetRawPtr(p.nlp));
+    nlp_ = new StepNlp(problem, nlp_rows_, from, force_scale_, speed_scale_, secant_after_cut_, out, lambda);
+    app_->OptimizeTNLP(GetRawPtr(nlp_));
   }
   return out;
 }

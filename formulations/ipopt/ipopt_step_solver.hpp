@@ -18,7 +18,6 @@
 #pragma once
 #include <IpIpoptApplication.hpp>
 
-#include <array>
 #include <string>
 #include <vector>
 
@@ -50,7 +49,7 @@ class IpoptStepSolver final : public StepSolver {
   IpoptStepSolver(const Scene& scene, CaseSection& settings, double force_scale);
   // The rows of the next solves (valid until the next call).
   void set_rows(std::vector<BoundRow>* rows) {
-    rows_ = rows, warm_next_ = loose_next_ = have_round_off_ = false, new_problem_ = true;
+    rows_ = rows, warm_next_ = loose_next_ = have_round_off_ = false, nlp_ = nullptr;
   }
   // The next solve re-solves the same rows after a change of the objective
   // alone (the friction bounds' fixed point): it starts from the last
@@ -65,16 +64,15 @@ class IpoptStepSolver final : public StepSolver {
   SolveOutcome solve(const StepView& v, StepProblem& problem, Vec& u) override;
   const Kkt& kkt() const { return kkt_; }
   int warm_failures() const { return warm_failures_; }
-  int programs_built() const { return programs_built_; }
   int constraints() const { return used_; }
   void derived(std::vector<NamedValue>& out) const;
 
  private:
-  // One Ipopt solve of the current program's rows from `from` (and from
-  // the row multipliers `lambda` when warm-starting), its complementarity
+  // One Ipopt solve of the program of nlp_rows_ from `from` (and from the
+  // row multipliers `lambda` when warm-starting), its complementarity
   // tolerance set from the element-force scale `force` (N; 0 keeps the
-  // last). A kept program is solved again (ReOptimizeTNLP), else a new one
-  // is built.
+  // last). The program of the last solve is solved again (ReOptimizeTNLP)
+  // when it is the same problem with the same rows.
   NlpOutcome optimize(StepProblem& problem, const Vec& from, double force, const std::vector<double>* lambda = nullptr);
   // Ipopt's options for a start from given multipliers (warm_start_init_point,
   // warm_mu_init, warm_max_iter) or for the plain start; tol either way.
@@ -89,6 +87,7 @@ class IpoptStepSolver final : public StepSolver {
   double measure(const StepView& v, const StepProblem& problem, const std::vector<LinearRow>& rows,
                  const std::vector<int>& row_of, const NlpOutcome& out);
 
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
   std::vector<BoundRow>* rows_ = nullptr;
   double force_scale_ = 1, speed_scale_ = 0, mu_init_ = 1e-6;
   double tol_ = 1e-10;
@@ -98,23 +97,11 @@ class IpoptStepSolver final : public StepSolver {
   int max_iter_ = 500, warm_max_iter_ = 15;
   bool warm_start_ = true, warm_next_ = false, loose_next_ = false, last_loose_ = false;
   int warm_failures_ = 0;  // warm starts solved again from the plain start
-  bool keep_programs_ = true;  // a new solve re-solves a kept program of its structure (else builds one)
-  int programs_built_ = 0;     // programs handed to Ipopt new (its spaces and maps built for each)
   std::vector<double> last_lambda_;  // the last solve's row multipliers
-  // A program kept between solves, with the application that solved it
-  // last (Ipopt re-solves a TNLP of the same structure only in the
-  // application that solved it): its rows and unknowns.
-  struct Program {
-    Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
-    Ipopt::SmartPtr<StepNlp> nlp;
-    std::vector<LinearRow> rows;
-    Index unknowns = -1;
-  };
-  // Two: the midpoint scheme's half-step and end solves (solve()).
-  std::array<Program, 2> programs_;
-  int current_ = 0;          // the program of the solve under way
-  bool new_problem_ = true;  // set_rows since the last solve: the programs are bound to earlier StepProblems
-  Ipopt::IpoptApplication& app() { return *programs_[current_].app; }
+  // The program of this solve's last pass: its rows and unknowns.
+  Ipopt::SmartPtr<StepNlp> nlp_;
+  std::vector<LinearRow> nlp_rows_;
+  Index nlp_unknowns_ = -1;
   double round_off_force_ = 0;  // Newton's tol_force (relative residual)
   double last_scale_ = 0;       // N, the element-force scale of the last solve
   Kkt kkt_;

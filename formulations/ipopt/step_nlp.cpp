@@ -8,26 +8,14 @@ namespace rpfem {
 
 StepNlp::StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& start, double force_scale,
                  double speed_scale, bool secant_after_cut, NlpOutcome& out, const std::vector<double>* start_lambda)
-    : problem_(&problem), rows_(rows), start_(start), start_lambda_(start_lambda), force_scale_(force_scale),
+    : problem_(problem), rows_(rows), start_(start), start_lambda_(start_lambda), force_scale_(force_scale),
       speed_scale_(speed_scale), secant_after_cut_(secant_after_cut), out_(&out) {
   // The Hessian's pattern is the kernel's (fixed within the step).
-  lower_ = lower_pattern(problem_->tangent(start_, true));
-  for (const auto& r : rows_) jac_nnz_ += static_cast<Ipopt::Index>(r.terms.size());
-}
-
-std::vector<std::pair<Ipopt::Index, Ipopt::Index>> StepNlp::lower_pattern(const SpMat& K) {
-  std::vector<std::pair<Ipopt::Index, Ipopt::Index>> lower;
-  lower.reserve(static_cast<std::size_t>(K.nonZeros()) / 2 + K.outerSize());
+  const SpMat& K = problem_.tangent(start_, true);
   for (Eigen::Index c = 0; c < K.outerSize(); ++c)
     for (SpMat::InnerIterator it(K, c); it; ++it)
-      if (it.row() >= it.col()) lower.emplace_back(static_cast<Ipopt::Index>(it.row()), static_cast<Ipopt::Index>(it.col()));
-  return lower;
-}
-
-bool StepNlp::rebind(StepProblem& problem, const SpMat& K) {
-  if (lower_pattern(K) != lower_) return false;
-  problem_ = &problem;
-  return true;
+      if (it.row() >= it.col()) lower_.emplace_back(static_cast<Ipopt::Index>(it.row()), static_cast<Ipopt::Index>(it.col()));
+  for (const auto& r : rows_) jac_nnz_ += static_cast<Ipopt::Index>(r.terms.size());
 }
 
 bool StepNlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
@@ -67,9 +55,9 @@ bool StepNlp::eval_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number
   grad_x_ = map(n, x);
   // The same element pass keeps the consistent tangent's element terms:
   // an accepted trial is where Ipopt asks for the Hessian next.
-  problem_->keep_tangent_terms(true);
-  obj_value = problem_->residual_energy(grad_x_, grad_, grad_scale_);
-  problem_->keep_tangent_terms(false);
+  problem_.keep_tangent_terms(true);
+  obj_value = problem_.residual_energy(grad_x_, grad_, grad_scale_);
+  problem_.keep_tangent_terms(false);
   grad_valid_ = true;
   return std::isfinite(obj_value);
 }
@@ -77,7 +65,7 @@ bool StepNlp::eval_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number
 bool StepNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number* grad_f) {
   if (new_x || !grad_valid_) {
     grad_x_ = map(n, x);
-    problem_->residual(grad_x_, grad_, grad_scale_);  // R = dPi/du
+    problem_.residual(grad_x_, grad_, grad_scale_);  // R = dPi/du
     grad_valid_ = true;
   }
   for (Ipopt::Index i = 0; i < n; ++i) grad_f[i] = grad_[i];
@@ -123,7 +111,7 @@ bool StepNlp::eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::
   // The rows are linear: the Lagrangian's Hessian is obj_factor K, the
   // consistent tangent, or the secant one after an iteration whose line
   // search cut the step (secant_after_cut, as Newton's: solver/newton.hpp).
-  const SpMat& K = problem_->tangent(map(n, x), !secant_next_);
+  const SpMat& K = problem_.tangent(map(n, x), !secant_next_);
   Ipopt::Index k = 0;
   for (Eigen::Index c = 0; c < K.outerSize(); ++c)
     for (SpMat::InnerIterator it(K, c); it; ++it)

@@ -53,14 +53,6 @@ class StepNlp final : public Ipopt::TNLP {
   void restart(const Vec& start, const std::vector<double>* start_lambda, NlpOutcome& out) {
     start_ = start, start_lambda_ = start_lambda, out_ = &out, grad_valid_ = false, secant_next_ = false;
   }
-  // The program of another step (its own problem and rows, the rows'
-  // values in the vector this program was built on) kept where its
-  // structure is this one's: the rows' unknowns (the caller's check) and
-  // the Hessian's pattern, of K (the new problem's tangent). Then Ipopt
-  // re-solves it with this program's structure
-  // (warm_start_same_structure); returns false, and changes nothing, where
-  // the Hessian's pattern differs.
-  bool rebind(StepProblem& problem, const SpMat& K);
 
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
                     IndexStyleEnum& index_style) override;
@@ -90,9 +82,7 @@ class StepNlp final : public Ipopt::TNLP {
                          const Ipopt::IpoptData* ip_data, Ipopt::IpoptCalculatedQuantities* ip_cq) override;
 
  private:
-  // The Hessian's lower triangle, (row, col) in K's storage order.
-  static std::vector<std::pair<Ipopt::Index, Ipopt::Index>> lower_pattern(const SpMat& K);
-  StepProblem* problem_;
+  StepProblem& problem_;
   const std::vector<LinearRow>& rows_;
   Vec start_;
   const std::vector<double>* start_lambda_ = nullptr;

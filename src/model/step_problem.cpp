@@ -279,7 +279,6 @@ void StepProblem::viscous_predictor(double rate, Vec& u) {
   residual(u, R, scale);
   const bool ok = solve(u, false, R, du);  // linear problem: one solve is exact
   viscous_floor_ = 0;
-  terms_kept_ = false;
   if (ok && du.allFinite()) u += du;
 }
 

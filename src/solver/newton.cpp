@@ -65,16 +65,17 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
     Vec trial;
     double trial_energy = 0, trial_scale = scale;
     bool accepted = false;
+    // Accepted, the full step is the next iterate, whose tangent is the
+    // consistent one (no cut) unless the direct iterations go on; none
+    // follows at the iteration limit, or where the full step meets
+    // tol_velocity by the error estimate below (theta |du| of two full
+    // Newton steps): only otherwise does its trial keep the tangent terms.
+    const bool meets_tol = !frozen && !secant && last_full > 0 && newton_correction < 0.5 * last_full &&
+                           newton_correction / last_full * newton_correction <= s.tol_velocity;
+    const bool keep_full_step = sys.keep_tangent && it + 1 > s.direct_iterations && it < s.max_iterations && !meets_tol;
     for (int h = 0; h <= s.max_halvings; ++h) {
       trial = u + step * du;
-      // Accepted, a full step is the next iterate, whose tangent is the
-      // consistent one (no cut) unless the direct iterations go on, or no
-      // next iteration follows: at the iteration limit, or where the error
-      // estimate below (theta |du| of two full Newton steps) already meets
-      // tol_velocity.
-      const bool keep = sys.keep_tangent && h == 0 && it + 1 > s.direct_iterations && it < s.max_iterations &&
-                        !(!frozen && !secant && last_full > 0 && newton_correction < 0.5 * last_full &&
-                          newton_correction / last_full * newton_correction <= s.tol_velocity);
+      const bool keep = keep_full_step && h == 0;
       if (keep) sys.keep_tangent(true);
       if (!use_energy)
         sys.residual(trial, Rtrial, trial_scale);

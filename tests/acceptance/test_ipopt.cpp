@@ -388,33 +388,6 @@ TEST(Ipopt, WarmStartsGiveThePlainStartsLoadsInFewerIterations) {
               between, warm_err, plain_err, its_warm, its_plain, warm.at("warm_fallbacks").back());
 }
 
-// Test II's die to 1 mm (landings and releases among its steps): a solve
-// that re-solves a kept program of its structure with new values gives the
-// bits of one that builds a new program, and most solves do.
-TEST(Ipopt, KeptProgramsGiveTheBitsOfNewOnes) {
-  const std::string set = " --formulation ipopt --set stepping.end_stroke=1.0";
-  const History kept = read_history(run_case("paper_test2_die", set, 0, "_kept") + "/history.csv");
-  const History built =
-      read_history(run_case("paper_test2_die", set + " --set formulations.ipopt.keep_programs=false", 0, "_built") +
-                   "/history.csv");
-  ASSERT_GE(kept.rows(), 21u);
-  ASSERT_EQ(built.rows(), kept.rows());
-  for (const char* col : {"stroke", "punch.Fy", "newton_iterations", "solves"})
-    for (std::size_t i = 0; i < kept.rows(); ++i) EXPECT_EQ(kept.at(col)[i], built.at(col)[i]) << col << " row " << i;
-  double solves = 0;
-  for (double n : built.at("solves")) solves += n;
-  const double programs_kept = kept.at("ipopt_programs").back(), programs_built = built.at("ipopt_programs").back();
-  // Without keeping, every solve of a new StepProblem builds one (its
-  // friction passes re-solve it): two a step, one at step 0. Kept, a new
-  // program where a row landed or left (28 of 93 here, most in the first
-  // steps' landings).
-  EXPECT_EQ(programs_built, 2.0 * kept.rows() - 1);
-  EXPECT_LT(programs_kept, 0.4 * programs_built);
-  std::printf("[measured] Test II die to 1 mm: %g programs built with keep_programs, %g without, %g solves; the same "
-              "loads and iterations\n",
-              programs_kept, programs_built, solves);
-}
-
 // Test II's virtual rigid body to 0.15 mm: the residual's own evaluation
 // noise (kkt_round_off: R at u moved by one ulp) is above 1e-8 at the first
 // solve, and stationarity is within it at every step; the contact
