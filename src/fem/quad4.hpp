@@ -30,6 +30,9 @@ inline constexpr std::array<std::array<double, 2>, 4> kGaussPoints2x2{
     {{-kGauss2, -kGauss2}, {kGauss2, -kGauss2}, {kGauss2, kGauss2}, {-kGauss2, kGauss2}}};
 
 Quad4Point quad4_point(const Quad4Coords& X, double xi, double eta);
+// The same at the 2x2 point kGaussPoints2x2[q], the parent element's shape
+// functions tabulated once: the same bits as quad4_point there.
+Quad4Point quad4_gauss_point(const Quad4Coords& X, int q);
 // The shape functions alone at (xi, eta), nodes counter-clockwise from
 // (-1, -1).
 Eigen::Vector4d quad4_shape(double xi, double eta);

@@ -43,6 +43,44 @@ FlowPoint material_point(const RigidPlasticInput& in, int q, double rate) {
 // Volumetric rate row of a point's B: epsdot_v = b_v . v.
 Vec8 volumetric_row(const Mat48& B) { return (B.row(0) + B.row(1) + B.row(2)).transpose(); }
 
+// A point's Hessian, H += s B^T P B + c g g^T, formed over B's structural
+// zeros (quad4.cpp): node a's x column is (b, 0, h, c) = (dN/dx, 0, N/r,
+// dN/dy), its y column (0, c, 0, b); P couples the normal rates among
+// themselves and gamma with itself. Only the products that are not with a
+// structural zero are formed, in the order the dense products sum them,
+// and each entry takes the two terms in turn, so H is the dense products'
+// to the bit (tests/unit: the element terms against the dense ones) for
+// about two thirds of their operations. c = 0: the secant part alone.
+void add_point_hessian(const Mat48& B, double s, double c, const Vec8& g, Mat8& H) {
+  const auto& P = effective_rate_metric();
+  double PB[4][8];  // P B: rows e11, e22, e33, gamma
+  for (int a = 0; a < 4; ++a) {
+    const int x = 2 * a, y = x + 1;
+    for (int k = 0; k < 3; ++k) {
+      PB[k][x] = P(k, 0) * B(0, x) + P(k, 2) * B(2, x);
+      PB[k][y] = P(k, 1) * B(1, y);
+    }
+    PB[3][x] = P(3, 3) * B(3, x);
+    PB[3][y] = P(3, 3) * B(3, y);
+  }
+  if (c == 0) {
+    for (int j = 0; j < 8; ++j)
+      for (int a = 0; a < 4; ++a) {
+        const int x = 2 * a, y = x + 1;
+        H(x, j) += s * ((B(0, x) * PB[0][j] + B(2, x) * PB[2][j]) + B(3, x) * PB[3][j]);
+        H(y, j) += s * (B(1, y) * PB[1][j] + B(3, y) * PB[3][j]);
+      }
+    return;
+  }
+  const Vec8 cg = c * g;
+  for (int j = 0; j < 8; ++j)
+    for (int a = 0; a < 4; ++a) {
+      const int x = 2 * a, y = x + 1;
+      H(x, j) = (H(x, j) + s * ((B(0, x) * PB[0][j] + B(2, x) * PB[2][j]) + B(3, x) * PB[3][j])) + g(j) * cg(x);
+      H(y, j) = (H(y, j) + s * (B(1, y) * PB[1][j] + B(3, y) * PB[3][j])) + g(j) * cg(y);
+    }
+}
+
 template <bool kGrad>
 double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
   const auto& P = effective_rate_metric();
@@ -56,7 +94,7 @@ double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
   Vec8 bv = Vec8::Zero();
   double wc = 0;
   for (int q = 0; q < 4; ++q) {
-    const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
+    const Quad4Point p = quad4_gauss_point(in.X, q);
     const double w = volume_weight(p, in.geometry, 1.0);
     const Mat48 B = strain_rate_matrix(p, in.geometry);
     bv.noalias() += w * volumetric_row(B);
@@ -74,15 +112,8 @@ double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
       const Vec8 g = B.transpose() * Peps;
       out->grad.noalias() += w * secant * g;
       if (t == Tangent::None) continue;
-      // B^T (P B) as a coefficient-wise product: for 8x4 by 4x8 Eigen's
-      // heuristic would take the general (blocked GEMM) kernel, several
-      // times slower at this size.
-      const Mat48 PB = P * B;
-      out->hess.noalias() += (w * secant) * B.transpose().lazyProduct(PB);
-      if (t == Tangent::Consistent && !f.rigid) {
-        const double c = (f.dsigma - secant) / (rate * rate);
-        out->hess.noalias() += (w * c) * g * g.transpose();
-      }
+      const bool consistent = t == Tangent::Consistent && !f.rigid;
+      add_point_hessian(B, w * secant, consistent ? w * ((f.dsigma - secant) / (rate * rate)) : 0.0, g, out->hess);
     }
   }
   // Volumetric penalty on the element's mean dilatation (Nagtegaal, Parks
@@ -120,7 +151,7 @@ ElementPost rigid_plastic_post(const RigidPlasticInput& in) {
   Vec8 bv = Vec8::Zero();  // the mean dilatation row, as in accumulate
   post.min_detJ = INFINITY;
   for (int q = 0; q < 4; ++q) {
-    const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
+    const Quad4Point p = quad4_gauss_point(in.X, q);
     const double w = volume_weight(p, in.geometry, 1.0);
     const Mat48 B = strain_rate_matrix(p, in.geometry);
     bv.noalias() += w * volumetric_row(B);

@@ -54,9 +54,16 @@ class SparseAssembler {
       for (int a = 0; a < k; ++a) {
         const NodeFrame& fa = dofs_->frame(nodes[a]);
         if (fa.nfree == 0) continue;
+        const double* Kb = K + (2 * b) * ld + 2 * a;  // the block's first column
+        if (fa.nfree == 2 && fb.nfree == 2) {
+          // Two free nodes: T = I (dof_map.cpp), so T^T K T is K itself,
+          // products with 1 and sums with 0 left out.
+          for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) val[where(b, a, j, i, fa.dof[i], fb.dof[j])] += Kb[j * ld + i];
+          continue;
+        }
         Eigen::Matrix2d Kab;
-        Kab << K[(2 * b) * ld + 2 * a], K[(2 * b + 1) * ld + 2 * a], K[(2 * b) * ld + 2 * a + 1],
-            K[(2 * b + 1) * ld + 2 * a + 1];
+        Kab << Kb[0], Kb[ld], Kb[1], Kb[ld + 1];
         const Eigen::Matrix2d R = fa.T.transpose() * Kab * fb.T;
         for (int j = 0; j < fb.nfree; ++j)
           for (int i = 0; i < fa.nfree; ++i) val[where(b, a, j, i, fa.dof[i], fb.dof[j])] += R(i, j);

@@ -195,3 +195,65 @@ TEST(Element, VolumetricTermIsTheMeanDilatation) {
                 1e-8 * in.alpha * volume * mean * mean);
   }
 }
+
+// The element's Hessian is formed over B's structural zeros; it must be
+// the dense products' to the bit (so a run's results do not move with the
+// kernel's arithmetic): (w s) B^T (P B) + (w c) g g^T per point and
+// alpha V b_v b_v^T, summed as in a plain Eigen transcription, on
+// distorted elements with the axis in or out, both geometries, rigid and
+// plastic points and the three tangent kinds.
+TEST(Element, StructuredHessianIsTheDenseProductsBits) {
+  const FlowStressLaw l = law();
+  const auto& P = effective_rate_metric();
+  int compared = 0;
+  for (int e = 0; e < 40; ++e) {
+    RigidPlasticInput in;
+    const double h = 0.3 + 0.05 * e, x0 = e % 4 == 0 ? 0.0 : 0.2 * e;
+    in.X = {Vec2(x0, 0.1 * e), Vec2(x0 + h, 0.1 * e + 0.07 * h), Vec2(x0 + 1.1 * h, 0.1 * e + 0.9 * h),
+            Vec2(x0 + 0.05 * h, 0.1 * e + h)};
+    for (int k = 0; k < 8; ++k) in.v(k) = std::sin(1.7 * k + 0.3 * e) * (e % 5 == 0 ? 1e-9 : 1.0);
+    in.law = &l;
+    in.strain = {0.05 * e, 0.1, 0.2, 0.3};
+    in.alpha = 1e7;
+    in.epsdot_lim = 1e-3;
+    in.geometry = e % 2 ? Geometry::PlaneStrain : Geometry::Axisymmetric;
+    if (e % 7 == 0) in.viscous_floor = 0.5;
+    for (Tangent t : {Tangent::Consistent, Tangent::Secant}) {
+      ElementTerms terms;
+      rigid_plastic_terms(in, t, terms);
+      // The dense transcription.
+      Mat8 H = Mat8::Zero();
+      Vec8 bv = Vec8::Zero();
+      double V = 0;
+      for (int q = 0; q < 4; ++q) {
+        const Quad4Point p = quad4_point(in.X, kGaussPoints2x2[q][0], kGaussPoints2x2[q][1]);
+        const double w = volume_weight(p, in.geometry, 1.0);
+        const Mat48 B = strain_rate_matrix(p, in.geometry);
+        bv.noalias() += w * (B.row(0) + B.row(1) + B.row(2)).transpose();
+        V += w;
+        const Eigen::Vector4d eps = B * in.v;
+        const Eigen::Vector4d Peps = P * eps;
+        const double rate = std::sqrt(std::max(eps.dot(Peps), 0.0));
+        FlowPoint f = flow_point(l, in.strain[q], rate, in.epsdot_lim);
+        if (in.viscous_floor > 0) {
+          const double c = flow_point(l, in.strain[q], in.viscous_floor, in.epsdot_lim).sigma / in.viscous_floor;
+          f.sigma = c * rate, f.dsigma = c, f.rigid = true;
+        }
+        const double secant = f.rigid ? f.dsigma : f.sigma / rate;
+        const Vec8 g = B.transpose() * Peps;
+        const Mat48 PB = P * B;
+        H.noalias() += (w * secant) * B.transpose().lazyProduct(PB);
+        if (t == Tangent::Consistent && !f.rigid) {
+          const double c = (f.dsigma - secant) / (rate * rate);
+          H.noalias() += (w * c) * g * g.transpose();
+        }
+      }
+      bv /= V;
+      H.noalias() += in.alpha * V * bv * bv.transpose();
+      for (int j = 0; j < 8; ++j)
+        for (int i = 0; i < 8; ++i) EXPECT_EQ(terms.hess(i, j), H(i, j)) << e << " " << i << " " << j;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 80);
+}
