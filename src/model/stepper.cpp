@@ -158,6 +158,10 @@ class Runner {
   double segment_start_quality_ = 1;  // the least scaled Jacobian of its first configuration
   double last_dt_ = 0;                // s, the last recorded step's length
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
+  // The last recorded step's largest penetration over the element size
+  // (0 where the treatment measures none): the reach of a corner's reflex
+  // angle that is not an inversion (attempt()).
+  double last_penetration_rel_ = 0;
 };
 
 StepView Runner::view(const State& st, int step, double dt) const {
@@ -346,6 +350,7 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
       ++floor_steps_;
       if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
     }
+    last_penetration_rel_ = cr.penetration_rel && std::isfinite(*cr.penetration_rel) ? *cr.penetration_rel : 0.0;
     if (const auto pen = cr.penetration_rel) {
       penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
       if (!(*pen <= worst_penetration_)) {
@@ -507,9 +512,14 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   // A corner angle of exactly 180 degrees (scaled Jacobian 0) is not an
   // inversion: it is what a side node folding over onto a flat die makes of
   // its element's corner (the element stays integrable); only a reflex
-  // corner beyond round-off is.
+  // corner beyond round-off is. Where the enforcement lets nodes penetrate
+  // (a penalty's gap), the three nodes of such a corner lie on the die to
+  // within that penetration d, and the corner's angle is 180 degrees to
+  // within about 2 d / h (the scaled Jacobian of a corner is the sine of
+  // its angle): a reflex angle within that reach is the same fold, not an
+  // inversion.
   constexpr double kReflexTolerance = 1e-9;
-  if (!(q > -kReflexTolerance)) {
+  if (!(q > -std::max(kReflexTolerance, 2 * last_penetration_rel_))) {
     out.inverted = true;
     return "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
   }
