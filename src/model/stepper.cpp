@@ -158,9 +158,10 @@ class Runner {
   double segment_start_quality_ = 1;  // the least scaled Jacobian of its first configuration
   double last_dt_ = 0;                // s, the last recorded step's length
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
-  // The last recorded step's largest penetration over the element size
-  // (0 where the treatment measures none): the reach of a corner's reflex
-  // angle that is not an inversion (attempt()).
+  // The last recorded step's largest penetration over the element size,
+  // at most run.penetration_tolerance (0 where the treatment measures
+  // none): the reach of a corner's reflex angle that is not an inversion
+  // (attempt()).
   double last_penetration_rel_ = 0;
 };
 
@@ -342,6 +343,11 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.tangent_rcond = std::isfinite(sol.rcond) ? sol.rcond : -1.0;
   const StepView sv = view(st, step, dt);
   ContactRecord cr = contact_.record(sv, sol.v, sol.F);
+  // The reach of a fold's reflex corner (attempt()): this step's
+  // penetration, to at most what the run accepts without a warning.
+  last_penetration_rel_ = cr.penetration_rel && std::isfinite(*cr.penetration_rel)
+                              ? std::min(*cr.penetration_rel, scene_.penetration_tolerance)
+                              : 0.0;
   // The run's worst conditioning, residual floor and penetration count
   // recorded steps only.
   if (!resumed) {
@@ -350,7 +356,6 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
       ++floor_steps_;
       if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
     }
-    last_penetration_rel_ = cr.penetration_rel && std::isfinite(*cr.penetration_rel) ? *cr.penetration_rel : 0.0;
     if (const auto pen = cr.penetration_rel) {
       penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
       if (!(*pen <= worst_penetration_)) {
