@@ -48,9 +48,9 @@ Vec8 volumetric_row(const Mat48& B) { return (B.row(0) + B.row(1) + B.row(2)).tr
 // dN/dy), its y column (0, c, 0, b); P couples the normal rates among
 // themselves and gamma with itself. Only the products that are not with a
 // structural zero are formed, in the order the dense products sum them,
-// and each entry takes the two terms in turn, so H is the dense products'
-// to the bit (tests/unit: the element terms against the dense ones) for
-// about two thirds of their operations. c = 0: the secant part alone.
+// so H is the dense products' to the bit (tests/unit: the element terms
+// against the dense ones) for about two thirds of their operations. c = 0:
+// the secant part alone.
 void add_point_hessian(const Mat48& B, double s, double c, const Vec8& g, Mat8& H) {
   const auto& P = effective_rate_metric();
   double PB[4][8];  // P B: rows e11, e22, e33, gamma
@@ -63,21 +63,15 @@ void add_point_hessian(const Mat48& B, double s, double c, const Vec8& g, Mat8& 
     PB[3][x] = P(3, 3) * B(3, x);
     PB[3][y] = P(3, 3) * B(3, y);
   }
-  if (c == 0) {
-    for (int j = 0; j < 8; ++j)
-      for (int a = 0; a < 4; ++a) {
-        const int x = 2 * a, y = x + 1;
-        H(x, j) += s * ((B(0, x) * PB[0][j] + B(2, x) * PB[2][j]) + B(3, x) * PB[3][j]);
-        H(y, j) += s * (B(1, y) * PB[1][j] + B(3, y) * PB[3][j]);
-      }
-    return;
-  }
+  // Each entry takes its secant term, then its rank-one term, in turn:
+  // the sums of the two dense products added one after the other.
   const Vec8 cg = c * g;
   for (int j = 0; j < 8; ++j)
     for (int a = 0; a < 4; ++a) {
       const int x = 2 * a, y = x + 1;
-      H(x, j) = (H(x, j) + s * ((B(0, x) * PB[0][j] + B(2, x) * PB[2][j]) + B(3, x) * PB[3][j])) + g(j) * cg(x);
-      H(y, j) = (H(y, j) + s * (B(1, y) * PB[1][j] + B(3, y) * PB[3][j])) + g(j) * cg(y);
+      H(x, j) += s * ((B(0, x) * PB[0][j] + B(2, x) * PB[2][j]) + B(3, x) * PB[3][j]);
+      H(y, j) += s * (B(1, y) * PB[1][j] + B(3, y) * PB[3][j]);
+      if (c != 0) H(x, j) += g(j) * cg(x), H(y, j) += g(j) * cg(y);
     }
 }
 
