@@ -220,6 +220,9 @@ void IpoptEnforcement::columns(std::vector<NamedValue>& out) const {
   out.push_back({"kkt_round_off", k.round_off});
   out.push_back({"friction_change", friction_change_});
   out.push_back({"warm_fallbacks", static_cast<double>(solver_.warm_failures())});
+  const MumpsAnalysisCounts a = solver_.mumps_analyses();
+  out.push_back({"mumps_analyses", static_cast<double>(a.analysed)});
+  out.push_back({"mumps_analyses_reused", static_cast<double>(a.reused)});
 }
 
 void IpoptEnforcement::derived(std::vector<NamedValue>& out) const {

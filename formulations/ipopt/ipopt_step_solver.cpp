@@ -43,6 +43,13 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   // automatic choice) computes one at every factorization; the system is
   // scaled by the program's own scaling already (get_scaling_parameters).
   const int mumps_scaling = settings.integer("mumps_scaling", 0, -2, 77);
+  // MUMPS's maximum transversal before its ordering (ICNTL(6)): none, so
+  // the analysis reads the pattern alone and a program's friction passes
+  // factor on its first solve's (reuse_mumps_analysis,
+  // mumps_analysis_reuse.hpp). Ipopt's default 7 (MUMPS's automatic
+  // choice) permutes by the first matrix's values at every solve.
+  const int mumps_permuting_scaling = settings.integer("mumps_permuting_scaling", 0, 0, 7);
+  reuse_analysis_ = settings.flag("reuse_mumps_analysis", true);
   // Refinement steps on the primal-dual system before its residual is
   // checked: Ipopt's default 1 costs a back-solve at every iteration; it
   // refines anyway while the residual ratio exceeds its residual_ratio_max.
@@ -72,6 +79,7 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   o.SetNumericValue("mu_init", mu_init_);
   o.SetStringValue("linear_solver", linear_solver);
   o.SetIntegerValue("mumps_scaling", mumps_scaling);
+  o.SetIntegerValue("mumps_permuting_scaling", mumps_permuting_scaling);
   o.SetIntegerValue("min_refinement_steps", min_refinement);
   // Read by Ipopt only with warm_start_init_point (solve()).
   o.SetNumericValue("warm_start_bound_push", warm_push_);
@@ -81,6 +89,12 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   o.SetStringValue("nlp_scaling_method", "user-scaling");
   if (app_->Initialize() != Ipopt::Solve_Succeeded)
     throw InputError(scene.file + ": [formulations.ipopt]: Ipopt refused the options");
+  analyses_at_start_ = mumps_analysis_counts();
+}
+
+MumpsAnalysisCounts IpoptStepSolver::mumps_analyses() const {
+  const MumpsAnalysisCounts now = mumps_analysis_counts();
+  return {now.analysed - analyses_at_start_.analysed, now.reused - analyses_at_start_.reused};
 }
 
 void IpoptStepSolver::derived(std::vector<NamedValue>& out) const {
@@ -109,9 +123,9 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
     row_of.push_back(j);
   }
   // A pass of the same solve (set_rows starts each) re-solves the same
-  // program: Ipopt keeps its structure (its spaces and index maps; Ipopt
-  // 3.11's MUMPS interface analyses the pattern at every solve regardless)
-  // when handed the same TNLP.
+  // program: Ipopt keeps its structure (its spaces and index maps) when
+  // handed the same TNLP, and MUMPS its analysis (Ipopt 3.11 asks for one
+  // at every solve regardless: mumps_analysis_reuse.hpp).
   const auto same = [](const LinearRow& a, const LinearRow& b) { return a.lower == b.lower && a.terms == b.terms; };
   if (IsNull(nlp_) || u.size() != nlp_unknowns_ || rows.size() != nlp_rows_.size() ||
       !std::equal(rows.begin(), rows.end(), nlp_rows_.begin(), same)) {
@@ -244,6 +258,11 @@ NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const Vec& from, doub
                                      const std::vector<double>* lambda) {
   if (force > 0) app_->Options()->SetNumericValue("compl_inf_tol", kComplTolFactor * kAcceptKkt * force * speed_scale_);
   NlpOutcome out;
+  struct Reuse {  // this solver's setting for its solves, the thread's restored after
+    bool was;
+    explicit Reuse(bool on) : was(set_mumps_analysis_reuse(on)) {}
+    ~Reuse() { set_mumps_analysis_reuse(was); }
+  } reuse(reuse_analysis_);
   if (IsValid(nlp_)) {
     // The same program again: Ipopt's warm_start_same_structure keeps its
     // spaces and the linear system's structure.

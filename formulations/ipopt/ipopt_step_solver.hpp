@@ -23,6 +23,7 @@
 
 #include "contact/pair_kinematics.hpp"
 #include "io/case_file.hpp"
+#include "ipopt/mumps_analysis_reuse.hpp"
 #include "ipopt/step_nlp.hpp"
 #include "model/contact_formulation.hpp"
 #include "model/scene.hpp"
@@ -64,6 +65,9 @@ class IpoptStepSolver final : public StepSolver {
   SolveOutcome solve(const StepView& v, StepProblem& problem, Vec& u) override;
   const Kkt& kkt() const { return kkt_; }
   int warm_failures() const { return warm_failures_; }
+  // MUMPS analyses run and reused (mumps_analysis_reuse.hpp) since this
+  // solver was made.
+  MumpsAnalysisCounts mumps_analyses() const;
   int constraints() const { return used_; }
   void derived(std::vector<NamedValue>& out) const;
 
@@ -97,6 +101,8 @@ class IpoptStepSolver final : public StepSolver {
   int max_iter_ = 500, warm_max_iter_ = 15;
   bool warm_start_ = true, warm_next_ = false, loose_next_ = false, last_loose_ = false;
   int warm_failures_ = 0;  // warm starts solved again from the plain start
+  bool reuse_analysis_ = true;   // reuse_mumps_analysis
+  MumpsAnalysisCounts analyses_at_start_;
   std::vector<double> last_lambda_;  // the last solve's row multipliers
   // The program of this solve's last pass: its rows and unknowns.
   Ipopt::SmartPtr<StepNlp> nlp_;
