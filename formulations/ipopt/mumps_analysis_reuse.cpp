@@ -37,14 +37,17 @@ thread_local ThreadState state;
 // NNZ (64-bit) where the caller set it, else the older NZ (Ipopt 3.11's).
 std::int64_t nonzeros(const DMUMPS_STRUC_C* id) { return id->nnz > 0 ? id->nnz : id->nz; }
 
-// An analysis that reads the pattern alone (MUMPS 5.5 user guide, ICNTL(6),
-// (8), (12)): no maximum transversal (ICNTL(6) = 0: it permutes by the
-// values), no scaling (ICNTL(8) = 0) and no ordering on the transversal's
-// compressed graph (ICNTL(12) = 0 or 1). Any other is analysed every time:
-// an ordering from another matrix's values is a different factorization,
-// and on the backward extrusion a much slower one (docs/notes.md).
+// An analysis of a centralized assembled matrix (ICNTL(5) = 0, ICNTL(18) =
+// 0: IRN and JCN on the host, as Ipopt hands them) that reads the pattern
+// alone (MUMPS 5.5 user guide, ICNTL(6), (8), (12)): no maximum transversal
+// (ICNTL(6) = 0: it permutes by the values), no scaling (ICNTL(8) = 0) and
+// no ordering on the transversal's compressed graph (ICNTL(12) = 0 or 1).
+// Any other is analysed every time: an ordering from another matrix's
+// values is a different factorization, and on the backward extrusion a
+// much slower one (docs/notes.md).
 bool pattern_only(const DMUMPS_STRUC_C* id) {
-  return id->icntl[5] == 0 && id->icntl[7] == 0 && (id->icntl[11] == 0 || id->icntl[11] == 1);
+  return id->icntl[4] == 0 && id->icntl[17] == 0 && id->irn && id->jcn && id->icntl[5] == 0 && id->icntl[7] == 0 &&
+         (id->icntl[11] == 0 || id->icntl[11] == 1);
 }
 
 bool same_inputs(const Analysis& a, const DMUMPS_STRUC_C* id) {
@@ -111,12 +114,12 @@ extern "C" __attribute__((visibility("default"))) void dmumps_c(DMUMPS_STRUC_C* 
   // An instance starting or ending, or analysing anew (JOB 1, 4, 6), drops
   // its record (its address may be a new instance's next).
   if (job == 1 || job == 4 || job == 6 || job == -1 || job == -2) state.last.erase(id);
+  const bool keep = job == 1 && rpfem::pattern_only(id);
   rpfem::Analysis a;
-  if (job == 1) a = rpfem::inputs_of(id);
+  if (keep) a = rpfem::inputs_of(id);
   rpfem::mumps_entry()(id);
-  if (job != 1) return;
-  ++state.counts.analysed;
-  if (id->info[0] < 0) return;  // a failed analysis is never reused
+  if (job == 1) ++state.counts.analysed;
+  if (!keep || id->info[0] < 0) return;  // a failed analysis is never reused
   std::memcpy(a.info, id->info, sizeof a.info);
   std::memcpy(a.infog, id->infog, sizeof a.infog);
   std::memcpy(a.rinfo, id->rinfo, sizeof a.rinfo);
