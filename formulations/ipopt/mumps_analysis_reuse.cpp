@@ -99,7 +99,8 @@ bool set_mumps_analysis_reuse(bool on) {
 extern "C" __attribute__((visibility("default"))) void dmumps_c(DMUMPS_STRUC_C* id) {
   using rpfem::state;
   const MUMPS_INT job = id->job;
-  if (job == 1 && state.reuse && rpfem::pattern_only(id)) {
+  const bool pattern = job == 1 && rpfem::pattern_only(id);
+  if (pattern && state.reuse) {
     const auto it = state.last.find(id);
     if (it != state.last.end() && rpfem::same_inputs(it->second, id)) {
       const rpfem::Analysis& a = it->second;
@@ -114,12 +115,11 @@ extern "C" __attribute__((visibility("default"))) void dmumps_c(DMUMPS_STRUC_C* 
   // An instance starting or ending, or analysing anew (JOB 1, 4, 6), drops
   // its record (its address may be a new instance's next).
   if (job == 1 || job == 4 || job == 6 || job == -1 || job == -2) state.last.erase(id);
-  const bool keep = job == 1 && rpfem::pattern_only(id);
   rpfem::Analysis a;
-  if (keep) a = rpfem::inputs_of(id);
+  if (pattern) a = rpfem::inputs_of(id);
   rpfem::mumps_entry()(id);
   if (job == 1) ++state.counts.analysed;
-  if (!keep || id->info[0] < 0) return;  // a failed analysis is never reused
+  if (!pattern || id->info[0] < 0) return;  // a failed analysis is never reused
   std::memcpy(a.info, id->info, sizeof a.info);
   std::memcpy(a.infog, id->infog, sizeof a.infog);
   std::memcpy(a.rinfo, id->rinfo, sizeof a.rinfo);
