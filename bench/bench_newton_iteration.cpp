@@ -10,7 +10,8 @@
 // iteration: one line-search trial (residual and energy, with the
 // consistent tangent's element terms kept, from one element pass: the
 // trial accepted, it is the next iterate), the tangent scattered from those
-// terms, factorization and solve. BM_NewtonIterationTwoPasses: the same
+// terms (on one element thread, within that pass), factorization and
+// solve. BM_NewtonIterationTwoPasses: the same
 // with the tangent's own element pass (as a trial that is not taken, or
 // before StepProblem::keep_tangent_terms). BM_NewtonIterationRatio: the
 // iteration against the bare factorization and solve, pair by pair.
@@ -137,8 +138,8 @@ void factor_solve(Fixture& f, const SpMat& A, const Vec& b) {
 
 // One Newton iteration as newton_solve does it after an accepted full
 // step: the trial's element pass (residual and energy, the consistent
-// tangent's terms kept), the tangent scattered from them, factorization
-// and solve.
+// tangent's terms kept; on one thread scattered as they are formed), the
+// tangent from them, factorization and solve.
 void newton_iteration(Fixture& f, Vec& R, Vec& du) {
   double scale;
   f.problem->keep_tangent_terms(true);

@@ -148,6 +148,8 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
   return true;
 }
 
+bool LinearSolver::solve_reads_matrix() const { return impl_->use_lu && !impl_->lu_is_klu; }
+
 bool LinearSolver::holds(std::uint64_t pattern_version, Index rows) const {
   return held_pattern_ != 0 && held_pattern_ == pattern_version && held_rows_ == rows;
 }

@@ -71,6 +71,11 @@ class LinearSolver {
   // Whether a factorization of a matrix with this pattern (and as many
   // rows as b) is held: the last factorize() of that pattern succeeded.
   bool holds(std::uint64_t pattern_version, Index rows) const;
+  // Whether solve() reads the factorized matrix itself, which must then
+  // stay as factorized: UMFPACK's iterative refinement reads the caller's
+  // values (Eigen's UmfPackLU holds a reference); CHOLMOD's solves read the
+  // factor only, and KLU refines with its own copy.
+  bool solve_reads_matrix() const;
   const LinearSolveStats& stats() const { return stats_; }
   void reset_rcond() { stats_.min_rcond = INFINITY; }
 

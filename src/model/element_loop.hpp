@@ -12,11 +12,16 @@ namespace rpfem {
 // about the threads' start).
 constexpr Index kParallelElements = 512;
 
+// Whether for_each_element(n, threads, f) calls f in element order on the
+// calling thread.
+inline bool element_loop_is_serial(Index n, int threads) { return threads <= 1 || n < kParallelElements; }
+
 // Calls f(e) for e in [0, n), over `threads` threads (OpenMP, static
-// schedule). f must write only what belongs to element e.
+// schedule). f must write only what belongs to element e, unless the loop
+// is serial (element_loop_is_serial).
 template <class F>
 void for_each_element(Index n, int threads, F&& f) {
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= kParallelElements)
+#pragma omp parallel for num_threads(threads) schedule(static) if (!element_loop_is_serial(n, threads))
   for (Index e = 0; e < n; ++e) f(e);
 }
 

@@ -119,8 +119,10 @@ class StepProblem {
   double force_floor_ = 0;
   bool keep_terms_ = false;
   // ws_.terms hold the consistent tangent's element terms at terms_u_ (this
-  // problem's elements, limiting rate and constraints).
+  // problem's elements, limiting rate and constraints); where
+  // terms_in_matrix_, the assembler holds their scatter instead.
   mutable bool terms_kept_ = false;
+  mutable bool terms_in_matrix_ = false;
   mutable Vec terms_u_;
 };
 

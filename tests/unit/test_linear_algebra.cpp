@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "fem/dof_map.hpp"
@@ -109,6 +110,31 @@ TEST(LinearSolver, CholmodAndUmfpackSolve) {
   ASSERT_TRUE(u.factorize(N, false, 1));
   EXPECT_EQ(u.stats().last_solver, "umfpack");
   EXPECT_LT((N * u.solve(b) - b).norm(), 1e-12);
+}
+
+// What solve_reads_matrix() says: after the factorization, the matrix's
+// values are overwritten (as a Newton trial's scatter would); CHOLMOD's and
+// KLU's solves keep their bits, UMFPACK's refinement reads the new values.
+TEST(LinearSolver, OnlyUmfpacksSolveReadsTheMatrixAfterItsFactorization) {
+  const int n = 50;
+  const Vec b = Vec::LinSpaced(n, 1, 2);
+  struct Case {
+    bool symmetric;
+    LuMode lu;
+    std::string solver;
+  };
+  for (const Case& c : {Case{true, LuMode::Auto, "cholmod"}, Case{false, LuMode::Klu, "klu"},
+                        Case{false, LuMode::Umfpack, "umfpack"}}) {
+    SpMat A = tridiagonal(n, -1.0, 4.0, c.symmetric ? -1.0 : -2.0);
+    LinearSolver s(LinearSolverChoice::Auto, CholeskyMode::Supernodal, c.lu);
+    ASSERT_TRUE(s.factorize(A, c.symmetric, 1));
+    ASSERT_EQ(s.stats().last_solver, c.solver);
+    const Vec x = s.solve(b);
+    for (Eigen::Index k = 0; k < A.nonZeros(); ++k) A.valuePtr()[k] *= 1.5;
+    const Vec y = s.solve(b);
+    EXPECT_EQ(s.solve_reads_matrix(), c.solver == "umfpack") << c.solver;
+    EXPECT_EQ((x - y).cwiseAbs().maxCoeff() > 0, s.solve_reads_matrix()) << c.solver;
+  }
 }
 
 // solver.lu = auto: KLU below kKluMaxRows rows, UMFPACK from there, each
