@@ -1,7 +1,5 @@
 #include "mesh/outline_mesher.hpp"
 
-#include <gmsh.h>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -11,6 +9,7 @@
 #include <utility>
 
 #include "mesh/outline_simplify.hpp"
+#include "mesh/polygon_quad_mesher.hpp"
 
 namespace rpfem {
 
@@ -36,26 +35,6 @@ std::vector<Edge> boundary_loop(const std::vector<Edge>& edges) {
   return loop;
 }
 
-// gmsh's global state for one meshing, finalized however it ends.
-struct GmshSession {
-  GmshSession() {
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    // One thread: an error in gmsh's OpenMP regions would end the process
-    // instead of reaching the caller.
-    gmsh::option::setNumber("General.NumThreads", 1);
-    gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1);  // Blossom
-    gmsh::model::add("outline");
-  }
-  ~GmshSession() { gmsh::finalize(); }
-};
-
-double signed_area(const std::vector<Vec2>& x, const std::array<Index, 4>& q) {
-  double a = 0;
-  for (int i = 0; i < 4; ++i) a += cross(x[q[i]], x[q[(i + 1) % 4]]);
-  return 0.5 * a;
-}
-
 // The sides of body `name` each edge (a, b) of the old mesh is on.
 std::map<std::pair<Index, Index>, std::set<std::string>> sides_of_edges(const Mesh& old, const std::string& name) {
   std::map<std::pair<Index, Index>, std::set<std::string>> on;
@@ -65,10 +44,11 @@ std::map<std::pair<Index, Index>, std::set<std::string>> sides_of_edges(const Me
   return on;
 }
 
-OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, int body, const OutlineOptions& o) {
-  // The target size at a point; `scale` doubles it for the subdivision below.
-  double scale = 1;
-  const auto h = [&](const Vec2& p) { return scale * (o.size_at ? o.size_at(p) : o.size); };
+}  // namespace
+
+OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, const OutlineOptions& o) {
+  // The target size at a point.
+  const auto h = [&](const Vec2& p) { return o.size_at ? o.size_at(p) : o.size; };
   const std::string& name = old.body_names.at(body);
   const std::vector<Edge> all = boundary_loop(old.sides.at(name + ".boundary"));
   // The outline's corners: a node stays where the sides its two edges are
@@ -129,71 +109,15 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
   first[n] = static_cast<int>(points.size());
   const int np = first[n];
 
-  GmshSession session;
-  // gmsh point i + 1 at points[i], line i + 1 from it to the next.
-  std::vector<int> lines(np);
-  for (int i = 0; i < np; ++i) gmsh::model::geo::addPoint(points[i](0), points[i](1), 0, h(points[i]), i + 1);
-  for (int i = 0; i < np; ++i) lines[i] = gmsh::model::geo::addLine(i + 1, (i + 1) % np + 1, i + 1);
-  const int surface = gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(lines)});
-  gmsh::model::geo::synchronize();
-  gmsh::model::mesh::setRecombine(2, surface);
-  for (int i = 0; i < np; ++i) gmsh::model::mesh::setTransfiniteCurve(lines[i], 2);
-  // The inside graded to the same target (gmsh takes the least of this and
-  // the points' sizes).
-  gmsh::model::mesh::setSizeCallback([&](int, int, double px, double py, double) { return h(Vec2(px, py)); });
-  // Blossom matching at the target size on frontal-Delaunay's triangles,
-  // else on Delaunay's or MeshAdapt's (Mesh.Algorithm 5, 1); should each
-  // leave a triangle, the mesh at twice the size inside split into
-  // quadrilaterals (every element into 3 or 4; the outline's segments too,
-  // their midpoints in line, which the next remesh's simplification drops).
-  const auto all_quads = [] {
-    std::vector<int> types;
-    std::vector<std::vector<std::size_t>> tags, nodes;
-    gmsh::model::mesh::getElements(types, tags, nodes, 2);
-    return types.size() == 1 && types[0] == 3;
-  };
-  bool done = false;
-  for (const int algorithm : {6, 5, 1}) {
-    gmsh::model::mesh::clear();
-    gmsh::option::setNumber("Mesh.Algorithm", algorithm);
-    gmsh::model::mesh::generate(2);
-    if ((done = all_quads())) break;
-  }
-  if (!done) {
-    gmsh::model::mesh::clear();
-    gmsh::option::setNumber("Mesh.Algorithm", 6);
-    gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
-    scale = 2;
-    for (int i = 0; i < np; ++i) gmsh::model::mesh::setSize({{0, i + 1}}, h(points[i]));
-    gmsh::model::mesh::generate(2);
-  }
-
-  gmsh::model::mesh::removeSizeCallback();
+  PolygonQuadMeshInput polygon_in;
+  polygon_in.points = points;
+  polygon_in.size = h;
+  PolygonQuadMesh polygon_mesh = mesh_polygon_into_quads(polygon_in);
 
   OutlineMesh out;
   Mesh& m = out.mesh;
-  std::vector<std::size_t> tags;
-  std::vector<double> coords, params;
-  gmsh::model::mesh::getNodes(tags, coords, params);
-  std::map<std::size_t, Index> id;  // gmsh node tag -> node id
-  for (std::size_t i = 0; i < tags.size(); ++i) {
-    id[tags[i]] = static_cast<Index>(m.x.size());
-    m.x.emplace_back(coords[3 * i], coords[3 * i + 1]);
-  }
-  std::vector<int> types;
-  std::vector<std::vector<std::size_t>> element_tags, element_nodes;
-  gmsh::model::mesh::getElements(types, element_tags, element_nodes, 2);
-  for (std::size_t t = 0; t < types.size(); ++t) {
-    if (types[t] != 3)  // 3: the 4-node quadrilateral
-      throw std::runtime_error("remeshing: gmsh left " + std::to_string(element_tags[t].size()) +
-                               " elements that are not quadrilaterals");
-    for (std::size_t e = 0; e < element_tags[t].size(); ++e) {
-      std::array<Index, 4> q;
-      for (int i = 0; i < 4; ++i) q[i] = id.at(element_nodes[t][4 * e + i]);
-      if (signed_area(m.x, q) < 0) std::swap(q[1], q[3]);
-      m.quads.push_back(q);
-    }
-  }
+  m.x = std::move(polygon_mesh.x);
+  m.quads = std::move(polygon_mesh.quads);
   m.body_names = {name};
   m.element_body.assign(m.quads.size(), 0);
   m.node_body.assign(m.x.size(), 0);
@@ -206,23 +130,16 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
   // parameter from its start point.
   out.kept.assign(old.x.size(), -1);
   std::vector<std::vector<Edge>> chain(n);  // per line: its new edges
-  const auto point_node = [&](int point) {
-    gmsh::model::mesh::getNodes(tags, coords, params, 0, point);
-    return id.at(tags.at(0));
-  };
   for (int k = 0; k < n; ++k) {
     // The nodes along line k: its points and, after a subdivision, the
-    // nodes gmsh put between them, by their parameter on each line.
+    // nodes gmsh put between them.
     std::vector<Index> nodes;
     for (int i = first[k]; i < first[k + 1]; ++i) {
-      nodes.push_back(point_node(i + 1));
-      gmsh::model::mesh::getNodes(tags, coords, params, 1, lines[i], false, true);
-      std::vector<std::size_t> order(tags.size());
-      std::iota(order.begin(), order.end(), 0);
-      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return params[a] < params[b]; });
-      for (std::size_t j : order) nodes.push_back(id.at(tags[j]));
+      nodes.push_back(polygon_mesh.point_node[i]);
+      const auto& between = polygon_mesh.line_nodes[i];
+      nodes.insert(nodes.end(), between.begin(), between.end());
     }
-    nodes.push_back(point_node(first[k + 1] % np + 1));
+    nodes.push_back(polygon_mesh.point_node[first[k + 1] % np]);
     std::vector<Edge>& c = chain[k];
     for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
       const Index a = nodes[i], b = nodes[i + 1];
@@ -246,16 +163,6 @@ OutlineMesh mesh_outline_with_gmsh(const Mesh& old, const std::vector<Vec2>& x, 
     }
   }
   return out;
-}
-
-}  // namespace
-
-OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, const OutlineOptions& o) {
-  try {
-    return mesh_outline_with_gmsh(old, x, body, o);
-  } catch (const std::string& e) {  // gmsh reports its errors by throwing their text
-    throw std::runtime_error("remeshing: gmsh: " + e);
-  }
 }
 
 }  // namespace rpfem

@@ -10,16 +10,8 @@
 // are the old ones to that tolerance (exactly where no node goes and no
 // point is moved), the ends of every named side stay where they are, and
 // each old side is rebuilt on the new mesh along the same edges. The
-// inside is graded to OutlineOptions::size_at and
-// meshed by gmsh's frontal-Delaunay algorithm (Mesh.Algorithm 6), else
-// Delaunay's (5) or MeshAdapt (1), recombined into quadrilaterals by
-// Blossom matching (Mesh.RecombinationAlgorithm 1); where each leaves a
-// triangle, the mesh at twice the size is split into quadrilaterals
-// (Mesh.SubdivisionAlgorithm 1). Not
-// frontal-Delaunay for quads (Mesh.Algorithm 8): Debian's gmsh 4.8.4
-// crashes in it (its cross field's octree); not the full-quad Blossom
-// (RecombinationAlgorithm 3): it halves each outline line's 1D mesh, which
-// a line of one element cannot, and throws inside an OpenMP region.
+// inside is graded to OutlineOptions::size_at and meshed into
+// quadrilaterals by gmsh (mesh/polygon_quad_mesher.hpp).
 #pragma once
 #include <functional>
 #include <string>
@@ -56,8 +48,8 @@ struct OutlineOptions {
 };
 
 // Meshes body `body` of `old` (at coordinates x). Throws std::runtime_error
-// if the outline is not one closed loop or gmsh leaves an element that is
-// not a quadrilateral.
+// if the outline is not one closed loop, or where mesh_polygon_into_quads()
+// does.
 OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, const OutlineOptions& options);
 
 }  // namespace rpfem
