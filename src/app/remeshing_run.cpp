@@ -24,6 +24,7 @@ void add(RunOutcome& run, const RunOutcome& more) {
   run.residual_seconds += more.residual_seconds, run.contact_seconds += more.contact_seconds;
   run.pattern_builds += more.pattern_builds, run.factorizations += more.factorizations;
   run.tangent_passes += more.tangent_passes, run.tangents_from_trials += more.tangents_from_trials;
+  run.force_passes += more.force_passes, run.force_passes_reused += more.force_passes_reused;
   run.cholesky_fallbacks += more.cholesky_fallbacks;
   run.by_cholmod += more.by_cholmod, run.by_klu += more.by_klu, run.by_umfpack += more.by_umfpack;
   run.min_tangent_rcond = std::min(run.min_tangent_rcond, more.min_tangent_rcond);

@@ -290,6 +290,8 @@ std::string RunObserver::finish(const RunOutcome& out) {
   summary_.insert_or_assign("linear_solver", toml::table{{"pattern_builds", out.pattern_builds},
                                                           {"tangent_passes", out.tangent_passes},
                                                           {"tangents_from_trials", out.tangents_from_trials},
+                                                          {"force_passes", out.force_passes},
+                                                          {"force_passes_reused", out.force_passes_reused},
                                                           {"factorizations", out.factorizations},
                                                           {"cholesky_fallbacks", out.cholesky_fallbacks},
                                                           {"by_cholmod", out.by_cholmod},

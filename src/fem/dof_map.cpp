@@ -76,4 +76,13 @@ Vec DofMap::reduce(const std::vector<Vec2>& v) const {
   return u;
 }
 
+bool DofMap::operator==(const DofMap& o) const {
+  if (hash_ != o.hash_ || frames_.size() != o.frames_.size()) return false;
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    const NodeFrame &a = frames_[i], &b = o.frames_[i];
+    if (a.nfree != b.nfree || a.dof != b.dof || a.T != b.T || a.p != b.p) return false;
+  }
+  return true;
+}
+
 }  // namespace rpfem

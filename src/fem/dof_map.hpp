@@ -38,6 +38,8 @@ class DofMap {
   const NodeFrame& frame(Index node) const { return frames_[node]; }
   // A number that changes whenever the reduced dof layout changes.
   std::uint64_t layout_hash() const { return hash_; }
+  // Every node's frame the same to the bit: u maps to the same velocities.
+  bool operator==(const DofMap& o) const;
 
   Vec2 velocity(Index node, const Vec& u) const;
   void expand(const Vec& u, std::vector<Vec2>& v) const;

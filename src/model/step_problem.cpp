@@ -82,12 +82,16 @@ StepProblem::StepProblem(const StepView& view, const std::vector<std::array<doub
 }
 
 void StepProblem::set_constraints(const std::vector<NodeConstraint>& constraints) {
-  terms_kept_ = false;  // u maps to other velocities
   const Mesh& m = *view_.mesh;
-  ws_.dofs = DofMap(m.num_nodes(), constraints);
+  DofMap dofs(m.num_nodes(), constraints);
+  // Kept terms stay where u maps to the same velocities (a contact pass
+  // that changed no constraint) and the pattern stays.
+  if (!(ws_.has_pattern && dofs == ws_.dofs)) terms_kept_ = false;
+  ws_.dofs = std::move(dofs);
   std::vector<std::vector<Index>> couplings;
   contact_.couplings(view_, couplings);
   if (!ws_.has_pattern || ws_.layout != ws_.dofs.layout_hash() || couplings != ws_.couplings) {
+    terms_kept_ = false;
     ws_.assembler.build(ws_.dofs, m.quads, couplings);
     ws_.couplings = std::move(couplings);
     ws_.layout = ws_.dofs.layout_hash();
@@ -137,26 +141,21 @@ double StepProblem::energy_from_elements(const std::vector<Vec2>& v, double elem
   return e + sink.total;
 }
 
-double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy,
-                                 bool keep_terms) const {
-  auto t0 = Clock::now();
-  F.assign(v.size(), Vec2::Zero());
+void StepProblem::element_pass(const std::vector<Vec2>& v, bool keep_terms, bool force_nodes) const {
   const Index ne = view_.mesh->num_elements();
   std::vector<Vec8>& grad = ws_.element_forces;
   std::vector<double>& pi = ws_.element_values;
   grad.resize(ne);
-  if (element_energy) pi.resize(ne);
-  std::vector<Index> nodes;
-  contact_.force_nodes(view_, nodes);
+  pi.resize(ne);
   // Kept terms on a serial loop with no force nodes to read them go
   // straight into the matrix, in element order: tangent()'s scatter, the
   // same bits, without the terms' round trip through memory (30 MB at 1e5
   // unknowns). Not while a held factorization's solves read the matrix (a
   // chord iteration may still solve with it). Otherwise they are kept per
   // element.
-  const bool fuse = keep_terms && nodes.empty() && element_loop_is_serial(ne, ws_.threads) &&
+  const bool fuse = keep_terms && !force_nodes && element_loop_is_serial(ne, ws_.threads) &&
                     !ws_.linear.solve_reads_matrix();
-  if (keep_terms) terms_in_matrix_ = fuse;
+  if (keep_terms) terms_in_matrix_ = fuse, ++ws_.terms_writes;
   if (fuse) ws_.assembler.set_zero();
   if (keep_terms && !fuse) ws_.terms.resize(ne);
   for_each_element(ne, ws_.threads, [&](Index el) {
@@ -164,14 +163,33 @@ double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& 
     ElementTerms& t = keep_terms && !fuse ? ws_.terms[el] : local;
     rigid_plastic_terms(element_input(el, v), keep_terms ? Tangent::Consistent : Tangent::None, t);
     grad[el] = t.grad;
-    if (element_energy) pi[el] = t.energy;
+    pi[el] = t.energy;
     if (fuse) ws_.assembler.add_quad(el, view_.mesh->quads[el].data(), t.hess.data());
   });
-  if (element_energy) {
-    double e = 0;
-    for (Index el = 0; el < ne; ++el) e += pi[el];
-    *element_energy = e;
-  }
+  double e = 0;
+  for (Index el = 0; el < ne; ++el) e += pi[el];
+  pass_energy_ = e;
+  pass_v_ = v;
+  pass_id_ = ++ws_.force_passes;
+}
+
+double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy,
+                                 bool keep_terms) const {
+  auto t0 = Clock::now();
+  F.assign(v.size(), Vec2::Zero());
+  const Index ne = view_.mesh->num_elements();
+  std::vector<Index> nodes;
+  contact_.force_nodes(view_, nodes);
+  // The last pass's results where it was at these very velocities and
+  // nothing has written the element forces since.
+  const bool reuse = !keep_terms && pass_id_ != 0 && pass_id_ == ws_.force_passes && pass_v_.size() == v.size() &&
+                     std::memcmp(pass_v_.data(), v.data(), sizeof(Vec2) * v.size()) == 0;
+  if (reuse)
+    ++ws_.force_passes_reused;
+  else
+    element_pass(v, keep_terms, !nodes.empty());
+  const std::vector<Vec8>& grad = ws_.element_forces;
+  if (element_energy) *element_energy = pass_energy_;
   double scale2 = 0;
   for (Index el = 0; el < ne; ++el) {
     const auto& q = view_.mesh->quads[el];
@@ -201,11 +219,19 @@ void reduce_forces(const DofMap& dofs, const std::vector<Vec2>& F, Vec& R) {
 
 }  // namespace
 
+bool StepProblem::kept_at(const Vec& u) const {
+  return terms_writes_ == ws_.terms_writes && terms_u_.size() == u.size() &&
+         std::memcmp(terms_u_.data(), u.data(), sizeof(double) * u.size()) == 0;
+}
+
 double StepProblem::forces_at(const Vec& u, std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy) const {
   ws_.dofs.expand(u, v);
-  if (keep_terms_) terms_kept_ = false;  // ws_.terms are about to be overwritten
-  const double scale = nodal_forces(v, F, element_energy, keep_terms_);
-  if (keep_terms_) terms_u_ = u, terms_kept_ = true;
+  // Terms kept at this very u already (a pass's start after its last
+  // trial): the forces alone, which the last pass may give.
+  const bool keep = keep_terms_ && !(terms_kept_ && kept_at(u));
+  if (keep) terms_kept_ = false;  // ws_.terms are about to be overwritten
+  const double scale = nodal_forces(v, F, element_energy, keep);
+  if (keep) terms_u_ = u, terms_kept_ = true, terms_writes_ = ws_.terms_writes;
   return scale;
 }
 
@@ -239,11 +265,10 @@ const SpMat& StepProblem::tangent(const Vec& u, bool consistent) {
   // The terms a residual at this very u kept (keep_tangent_terms): the
   // same bits as computing them here; already scattered where
   // terms_in_matrix_ (never with force nodes, whose rows need them).
-  const bool kept = consistent && terms_kept_ && terms_u_.size() == u.size() &&
-                    std::memcmp(terms_u_.data(), u.data(), sizeof(double) * u.size()) == 0 &&
-                    !(terms_in_matrix_ && !nodes.empty());
+  const bool kept = consistent && terms_kept_ && kept_at(u) && !(terms_in_matrix_ && !nodes.empty());
   const bool scattered = kept && terms_in_matrix_;
   terms_kept_ = terms_in_matrix_ = false;
+  ++ws_.terms_writes;
   ++(kept ? ws_.tangents_from_trials : ws_.tangent_passes);
   if (!kept) {
     terms.resize(ne);
@@ -288,11 +313,13 @@ bool StepProblem::solve(const Vec& u, bool consistent, const Vec& R, Vec& du) {
 void StepProblem::viscous_predictor(double rate, Vec& u) {
   viscous_floor_ = rate;
   terms_kept_ = false;
+  pass_id_ = 0;
   Vec R, du;
   double scale;
   residual(u, R, scale);
   const bool ok = solve(u, false, R, du);  // linear problem: one solve is exact
   viscous_floor_ = 0;
+  pass_id_ = 0;
   if (ok && du.allFinite()) u += du;
 }
 

@@ -39,6 +39,12 @@ struct SolverWorkspace {
   // Tangents whose element terms were computed by tangent() itself, and
   // those scattered from a residual's kept terms (keep_tangent_terms).
   int tangent_passes = 0, tangents_from_trials = 0;
+  // Element passes for forces (and energies) run, and those served by the
+  // last one's results at the same velocities.
+  int force_passes = 0, force_passes_reused = 0;
+  // Counts the writes to `terms` and to the assembler's values (kept terms
+  // are valid while it stands still).
+  std::uint64_t terms_writes = 0;
   double assembly_seconds = 0;  // s: the elements' tangent, scattered into the matrix
   double residual_seconds = 0;  // s: the elements' forces and energies (residual, line search)
   double contact_seconds = 0;   // s: the contact's terms, rows and settling
@@ -91,7 +97,7 @@ class StepProblem {
   // the Newton iteration when no previous velocity field exists.
   void viscous_predictor(double rate, Vec& u);
   double limiting_strain_rate() const { return epsdot_lim_; }
-  void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate, terms_kept_ = false; }
+  void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate, terms_kept_ = false, pass_id_ = 0; }
   // N: the least force scale. A step in which nothing is loaded (bodies
   // approaching before their contact closes, a body at rest under a moving
   // virtual rigid one) has element forces at round-off only, and a
@@ -106,6 +112,14 @@ class StepProblem {
   // nodal_forces() of residual() and residual_energy() at u, keeping the
   // tangent terms where keep_terms_ is on.
   double forces_at(const Vec& u, std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy) const;
+  // The elements' forces and energies at nodal velocities v into the
+  // workspace (element_forces, element_values; their sum pass_energy_),
+  // and with keep_terms the consistent tangent's terms, in the matrix or
+  // per element (force_nodes: the contact reads elements' rows).
+  void element_pass(const std::vector<Vec2>& v, bool keep_terms, bool force_nodes) const;
+  // Whether the kept terms are at u (bit for bit) and nothing has written
+  // over them since.
+  bool kept_at(const Vec& u) const;
 
   const StepView& view_;
   const std::vector<std::array<double, 4>>& strain_;
@@ -124,6 +138,15 @@ class StepProblem {
   mutable bool terms_kept_ = false;
   mutable bool terms_in_matrix_ = false;
   mutable Vec terms_u_;
+  mutable std::uint64_t terms_writes_ = 0;  // ws_.terms_writes when they were kept
+  // The last element pass for forces: its nodal velocities, the elements'
+  // energy sum, and ws_.force_passes after it (ws_.element_forces hold its
+  // forces while that count stands; 0: none). A pass at the same
+  // velocities (bit for bit) takes its results: the same inputs give the
+  // same bits.
+  mutable std::vector<Vec2> pass_v_;
+  mutable double pass_energy_ = 0;
+  mutable int pass_id_ = 0;
 };
 
 // Consistent nodal external forces of the tractions on the current

@@ -423,6 +423,7 @@ RunOutcome Runner::finish() {
   out_.solve_seconds = ls.solve_seconds;
   out_.pattern_builds = ws_.pattern_builds;
   out_.tangent_passes = ws_.tangent_passes, out_.tangents_from_trials = ws_.tangents_from_trials;
+  out_.force_passes = ws_.force_passes, out_.force_passes_reused = ws_.force_passes_reused;
   out_.factorizations = ls.factorizations;
   out_.cholesky_fallbacks = ls.cholesky_fallbacks;
   out_.by_cholmod = ls.by_cholmod, out_.by_klu = ls.by_klu, out_.by_umfpack = ls.by_umfpack;

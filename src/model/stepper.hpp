@@ -100,6 +100,7 @@ struct RunOutcome {
   double residual_seconds = 0, contact_seconds = 0;  // model/step_problem.hpp's SolverWorkspace
   int pattern_builds = 0, factorizations = 0, cholesky_fallbacks = 0;
   int tangent_passes = 0, tangents_from_trials = 0;  // SolverWorkspace's
+  int force_passes = 0, force_passes_reused = 0;     // SolverWorkspace's
   int by_cholmod = 0, by_klu = 0, by_umfpack = 0;  // la/linear_solver.hpp's LinearSolveStats
   double min_tangent_rcond = INFINITY;  // over the recorded steps
   // What the run met that makes its results doubtful, as sentences for the

@@ -554,9 +554,21 @@ TEST(Conformance, KeptTangentTermsGiveTheTangentsBits) {
     keep_at(u1);
     const SpMat secant = problem.tangent(u1, false);
     EXPECT_FALSE(bits(secant, fresh));
+    // The same constraints again (a contact pass that changed none): u
+    // maps to the same velocities, the terms stay; other constraints in
+    // between drop them.
     keep_at(u1);
     std::vector<NodeConstraint> cons;
     run.contact->constraints(next.view, cons);
+    problem.set_constraints(cons);
+    EXPECT_TRUE(bits(problem.tangent(u1, true), fresh));
+    EXPECT_EQ(ws.tangents_from_trials, ++from_trials);
+    keep_at(u1);
+    Index free_node = 0;
+    while (problem.dofs().frame(free_node).nfree < 2) ++free_node;
+    std::vector<NodeConstraint> other = cons;
+    other.push_back({free_node, Vec2(1, 0), 0.0});
+    problem.set_constraints(other);
     problem.set_constraints(cons);
     EXPECT_TRUE(bits(problem.tangent(u1, true), fresh));
     EXPECT_EQ(ws.tangents_from_trials, from_trials);
@@ -568,6 +580,73 @@ TEST(Conformance, KeptTangentTermsGiveTheTangentsBits) {
     EXPECT_TRUE(bits(problem.tangent(u1, true), slower));
     EXPECT_EQ(ws.tangents_from_trials, from_trials + 1);
   }
+}
+
+
+// An element pass at the velocities of the last one (a solve's forces
+// after its last trial, a contact pass that starts where the last ended)
+// takes that pass's results: the same bits as running it, counted in
+// force_passes_reused; other velocities, a new limiting rate or another
+// problem's pass in between run it again.
+TEST(Conformance, ForcesAtTheLastPassVelocitiesAreItsBits) {
+  ContactRun run(die_block(friction_table("factor")), "penalty", "");
+  ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
+  const Scene& scene = *run.scene;
+  NextStep next(run);
+  StepProblem& problem = *next.problem;
+  const SolverWorkspace& ws = next.ws;
+  std::vector<Vec2> v0 = run.out.steps.back().v, v1 = v0;
+  for (Index i = 0; i < scene.mesh.num_nodes(); ++i) v1[i] += 0.05 * Vec2(std::sin(1.0 + i), std::cos(2.0 * i));
+  const Vec u0 = problem.dofs().reduce(v0), u1 = problem.dofs().reduce(v1);
+  const auto same = [](const Vec& a, const Vec& b) { return a.size() == b.size() && (a - b).cwiseAbs().maxCoeff() == 0.0; };
+  // Reference values, each from a problem of its own.
+  const auto fresh = [&](const Vec& u, Vec& R, double& scale) {
+    NextStep other(run);
+    other.problem->residual(u, R, scale);
+    return other.problem->energy(u);
+  };
+  Vec R1, R0;
+  double s1 = 0, s0 = 0;
+  const double e1 = fresh(u1, R1, s1);
+  fresh(u0, R0, s0);
+
+  Vec R;
+  double s = 0;
+  const int passes = ws.force_passes, reused = ws.force_passes_reused;
+  problem.residual(u1, R, s);
+  EXPECT_TRUE(same(R, R1));
+  EXPECT_EQ(ws.force_passes, passes + 1);
+  problem.residual(u1, R, s);  // the last pass's velocities
+  EXPECT_TRUE(same(R, R1));
+  EXPECT_EQ(s, s1);
+  EXPECT_EQ(problem.residual_energy(u1, R, s), e1);
+  EXPECT_TRUE(same(R, R1));
+  EXPECT_EQ(ws.force_passes, passes + 1);
+  EXPECT_EQ(ws.force_passes_reused, reused + 2);
+  // Kept terms asked for at those velocities: a pass of their own.
+  problem.keep_tangent_terms(true);
+  problem.residual(u1, R, s);
+  problem.keep_tangent_terms(false);
+  EXPECT_EQ(ws.force_passes, passes + 2);
+  // Other velocities in between.
+  problem.residual(u0, R, s);
+  EXPECT_TRUE(same(R, R0));
+  problem.residual(u1, R, s);
+  EXPECT_TRUE(same(R, R1));
+  EXPECT_EQ(ws.force_passes, passes + 4);
+  // Another problem's pass on the same workspace in between.
+  StepProblem second(next.view, next.strain, next.materials, 1e-3, next.fext, *run.contact, next.ws);
+  second.residual(u0, R, s);
+  problem.residual(u1, R, s);
+  EXPECT_TRUE(same(R, R1));
+  EXPECT_EQ(ws.force_passes, passes + 6);
+  // A new limiting rate (above the block's strain rates): other forces,
+  // from a new pass.
+  problem.set_limiting_strain_rate(1e4 * problem.limiting_strain_rate());
+  problem.residual(u1, R, s);
+  EXPECT_EQ(ws.force_passes, passes + 7);
+  EXPECT_FALSE(same(R, R1));
+  EXPECT_EQ(ws.force_passes_reused, reused + 2);
 }
 
 }  // namespace
