@@ -10,8 +10,10 @@ StepNlp::StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const
                  double speed_scale, bool secant_after_cut, NlpOutcome& out, const std::vector<double>* start_lambda)
     : problem_(problem), rows_(rows), start_(start), start_lambda_(start_lambda), force_scale_(force_scale),
       speed_scale_(speed_scale), secant_after_cut_(secant_after_cut), out_(&out) {
-  // The Hessian's pattern is the kernel's (fixed within the step).
-  const SpMat& K = problem_.tangent(start_, true);
+  // The Hessian's pattern is the kernel's (fixed within the step): read
+  // from the assembler, not assembled (Ipopt's first Hessian is at the
+  // start, from the element pass of its first objective).
+  const SpMat& K = problem_.tangent_pattern();
   for (Eigen::Index c = 0; c < K.outerSize(); ++c)
     for (SpMat::InnerIterator it(K, c); it; ++it)
       if (it.row() >= it.col()) lower_.emplace_back(static_cast<Ipopt::Index>(it.row()), static_cast<Ipopt::Index>(it.col()));

@@ -87,6 +87,9 @@ class StepProblem {
   void keep_tangent_terms(bool on) { keep_terms_ = on; }
   // Assembles the tangent (consistent or secant) at u into the workspace.
   const SpMat& tangent(const Vec& u, bool consistent);
+  // The tangent's sparsity pattern (set_constraints' constraints and
+  // couplings); its values are whatever the last assembly left.
+  const SpMat& tangent_pattern() const { return ws_.assembler.matrix(); }
   bool solve(const Vec& u, bool consistent, const Vec& R, Vec& du);
   NewtonSystem newton_system();
   const StepView& view() const { return view_; }
