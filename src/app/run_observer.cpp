@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "mesh/polygon_quad_mesher.hpp"
+
 namespace rpfem {
 
 namespace {
@@ -268,6 +270,7 @@ std::string RunObserver::finish(const RunOutcome& out) {
     writer_->write_step(fields(last_));
   }
   summary_.insert_or_assign("status", out.finished ? "finished" : out.interrupted ? "interrupted" : "stopped");
+  if (const std::string gmsh = gmsh_module_path(); !gmsh.empty()) summary_.insert_or_assign("gmsh_module", gmsh);
   if (!out.finished) summary_.insert_or_assign("reason", out.reason);
   summary_.insert_or_assign("total_newton_iterations", out.total_newton_iterations);
   summary_.insert_or_assign("total_step_cuts", out.total_cuts);

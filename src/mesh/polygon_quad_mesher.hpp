@@ -8,6 +8,7 @@
 #pragma once
 #include <array>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/types.hpp"
@@ -46,6 +47,10 @@ struct PolygonQuadMesh {
 // where gmsh fails, leaves an element that is not a quadrilateral, or its
 // module cannot be loaded.
 PolygonQuadMesh mesh_polygon_into_quads(const PolygonQuadMeshInput& in);
+
+// The real path of the module this process loaded; empty before its first
+// remesh (for the run's record).
+std::string gmsh_module_path();
 
 // The module's entry point (extern "C", looked up by name).
 using MeshPolygonIntoQuads = void (*)(const PolygonQuadMeshInput&, PolygonQuadMesh&);
