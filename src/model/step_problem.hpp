@@ -72,7 +72,9 @@ class StepProblem {
   // With element_energy, also the sum of the elements' Pi in element order
   // (energy()'s first term, bit for bit), from the same element pass.
   // With keep_terms, each element's consistent tangent terms (the same
-  // gradient and energy bits) go to the workspace's terms.
+  // gradient and energy bits) go to the workspace's terms. Without, at the
+  // nodal velocities of this problem's last element pass (bit for bit),
+  // that pass's forces and energy are taken instead of a new pass.
   double nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy = nullptr,
                       bool keep_terms = false) const;
   void residual(const Vec& u, Vec& R, double& scale) const;
@@ -83,7 +85,10 @@ class StepProblem {
   // consistent tangent terms at their u (the gradient and energy are the
   // same bits either way) and keep them, and a tangent(u, true) at that
   // very u scatters those instead of a second element pass: Newton's
-  // full-step trial, which is usually the next iterate.
+  // full-step trial, which is usually the next iterate. Terms already kept
+  // at that u are not formed again; they serve one tangent, and go with
+  // constraints that change the DofMap or the pattern, or a new limiting
+  // rate.
   void keep_tangent_terms(bool on) { keep_terms_ = on; }
   // Assembles the tangent (consistent or secant) at u into the workspace.
   const SpMat& tangent(const Vec& u, bool consistent);
