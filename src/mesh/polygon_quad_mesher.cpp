@@ -16,8 +16,7 @@ namespace {
 // (RPFEM_GMSH_MODULE).
 struct Module {
   MeshPolygonIntoQuads entry = nullptr;
-  std::string path;   // the module loaded
-  std::string error;  // why none could be
+  std::string error;  // why none could be loaded
 };
 
 // Set once, when the module is loaded (gmsh_module_path()).
@@ -51,7 +50,7 @@ const Module& gmsh_module() {
       }
       m.entry = reinterpret_cast<MeshPolygonIntoQuads>(dlsym(handle, kMeshPolygonSymbol));
       if (m.entry) {
-        m.path = loaded_path() = std::filesystem::canonical(path, ec).string();
+        loaded_path() = std::filesystem::canonical(path, ec).string();
         return m;
       }
       tried += std::string(" (no ") + kMeshPolygonSymbol + ")";

@@ -2,9 +2,10 @@
 // libgmsh 4.8), the part of remeshing that calls gmsh. gmsh is loaded at
 // the first call, from rpfem's module librpfem_gmsh.so
 // (mesh/gmsh_module/), not linked into the programs: it brings about 120
-// libraries (OpenCASCADE, FLTK, X11, ...) whose symbol binding took 0.12 to
-// 0.15 s at every start of a program that may never remesh
-// (docs/notes.md, "gmsh loaded when a body is remeshed").
+// libraries (OpenCASCADE, FLTK, X11, ...) whose symbol binding took 0.11 to
+// 0.22 s at every start of a program that may never remesh (docs/notes.md,
+// "Kept terms scattered as they are formed; gmsh loaded at the first
+// remesh").
 #pragma once
 #include <array>
 #include <functional>
