@@ -4,11 +4,14 @@
 // step is flushed to disk before write_step returns, and result.h5 is
 // always a file whose last flush finished (each change goes to a spare
 // copy first, and the names are exchanged), so a killed run keeps every
-// finished step. Layout: docs/results-format.md.
+// finished step. The XDMF files, rewritten whole, follow at most a second
+// behind, and are whole at a run's end. Layout: docs/results-format.md.
 #pragma once
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -78,7 +81,9 @@ class HistoryWriter {
 };
 
 // Writes text to path atomically (temporary file + rename), so a reader never
-// sees a half-written summary.json.
+// sees a half-written summary.json; the second form writes its pieces one
+// after the other (no copy of them joined).
 void write_text_atomically(const std::string& path, const std::string& text);
+void write_text_atomically(const std::string& path, std::initializer_list<std::string_view> pieces);
 
 }  // namespace rpfem

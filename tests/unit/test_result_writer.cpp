@@ -2,9 +2,11 @@
 // refusal of non-finite values.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include <hdf5.h>
 
@@ -160,4 +162,48 @@ TEST(ResultWriter, ARemeshStartsANewMesh) {
   EXPECT_NE(second.find("Dimensions=\"6 4\">result.h5:/meshes/000002/connectivity"), std::string::npos);
   EXPECT_NE(second.find("Dimensions=\"12 2\">result.h5:/steps/000003/coordinates"), std::string::npos);
   EXPECT_EQ(second.find("000001"), std::string::npos);
+}
+
+TEST(ResultWriter, XdmfFilesFollowWithinASecondAndAreWholeAtTheEnd) {
+  // result.xdmf is rewritten whole, so not at every step: at the first, then
+  // once a second has passed since the last rewrite, and when the metadata
+  // is updated (a run's end). In between it names a prefix of the steps in
+  // result.h5 (a killed run's result.xdmf opens with what it names).
+  const std::string dir = (std::filesystem::temp_directory_path() / "rpfem_writer_xdmf_test").string();
+  std::filesystem::remove_all(dir);
+  const Mesh mesh = make_rectangle("b", {0, 0, 2, 1, 2, 1});
+  std::vector<Vec2> x = mesh.x, v(mesh.x.size(), Vec2(0, -1));
+  std::vector<double> e(mesh.quads.size(), 0.1);
+  const auto named = [&] {  // the steps result.xdmf names, in order
+    const std::string t = read_text(dir + "/result.xdmf");
+    std::vector<int> steps;
+    const std::string key = "result.h5:/steps/";
+    for (std::size_t p = 0; (p = t.find(key, p)) != std::string::npos; p += key.size()) {
+      const int s = std::stoi(t.substr(p + key.size(), 6));
+      if (steps.empty() || steps.back() != s) steps.push_back(s);
+    }
+    return steps;
+  };
+  ResultWriter w(dir, mesh, "{}");
+  const auto write = [&](int s) {
+    StepFields f;
+    f.step = s, f.time = s;
+    f.x = &x, f.v = &v, f.strain_rate = &e, f.strain = &e, f.mean_stress = &e;
+    w.write_step(f);
+  };
+  for (int s = 0; s < 5; ++s) {
+    write(s);
+    const std::vector<int> steps = named();
+    ASSERT_FALSE(steps.empty()) << "the first step is written at once";
+    ASSERT_LE(steps.size(), std::size_t(s + 1));
+    for (std::size_t i = 0; i < steps.size(); ++i) EXPECT_EQ(steps[i], int(i));
+  }
+  w.update_metadata("{\"status\":\"finished\"}");
+  EXPECT_EQ(named(), (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(read_text(dir + "/result_meshio.xdmf").find("result.h5:/steps/000004/coordinates") != std::string::npos,
+            true);
+  // A second after the last rewrite, the next step is written at once.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1050));
+  write(5);
+  EXPECT_EQ(named().back(), 5);
 }
