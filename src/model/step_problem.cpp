@@ -13,6 +13,13 @@ namespace rpfem {
 
 namespace {
 
+// The same values to the bit (velocities a pass or kept terms were formed
+// at against the ones asked for now).
+template <class V>
+bool same_bits(const V& a, const V& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(*a.data()) * a.size()) == 0;
+}
+
 // Sinks for the contact terms.
 struct EnergySink : TermSink {
   double total = 0;
@@ -182,8 +189,7 @@ double StepProblem::nodal_forces(const std::vector<Vec2>& v, std::vector<Vec2>& 
   contact_.force_nodes(view_, nodes);
   // The last pass's results where it was at these very velocities and
   // nothing has written the element forces since.
-  const bool reuse = !keep_terms && pass_id_ != 0 && pass_id_ == ws_.force_passes && pass_v_.size() == v.size() &&
-                     std::memcmp(pass_v_.data(), v.data(), sizeof(Vec2) * v.size()) == 0;
+  const bool reuse = !keep_terms && pass_id_ != 0 && pass_id_ == ws_.force_passes && same_bits(pass_v_, v);
   if (reuse)
     ++ws_.force_passes_reused;
   else
@@ -220,8 +226,7 @@ void reduce_forces(const DofMap& dofs, const std::vector<Vec2>& F, Vec& R) {
 }  // namespace
 
 bool StepProblem::kept_at(const Vec& u) const {
-  return terms_writes_ == ws_.terms_writes && terms_u_.size() == u.size() &&
-         std::memcmp(terms_u_.data(), u.data(), sizeof(double) * u.size()) == 0;
+  return terms_writes_ == ws_.terms_writes && same_bits(terms_u_, u);
 }
 
 double StepProblem::forces_at(const Vec& u, std::vector<Vec2>& v, std::vector<Vec2>& F, double* element_energy) const {
@@ -312,14 +317,13 @@ bool StepProblem::solve(const Vec& u, bool consistent, const Vec& R, Vec& du) {
 
 void StepProblem::viscous_predictor(double rate, Vec& u) {
   viscous_floor_ = rate;
-  terms_kept_ = false;
-  pass_id_ = 0;
+  forget_passes();
   Vec R, du;
   double scale;
   residual(u, R, scale);
   const bool ok = solve(u, false, R, du);  // linear problem: one solve is exact
   viscous_floor_ = 0;
-  pass_id_ = 0;
+  forget_passes();
   if (ok && du.allFinite()) u += du;
 }
 

@@ -105,7 +105,7 @@ class StepProblem {
   // the Newton iteration when no previous velocity field exists.
   void viscous_predictor(double rate, Vec& u);
   double limiting_strain_rate() const { return epsdot_lim_; }
-  void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate, terms_kept_ = false, pass_id_ = 0; }
+  void set_limiting_strain_rate(double rate) { epsdot_lim_ = rate, forget_passes(); }
   // N: the least force scale. A step in which nothing is loaded (bodies
   // approaching before their contact closes, a body at rest under a moving
   // virtual rigid one) has element forces at round-off only, and a
@@ -128,6 +128,10 @@ class StepProblem {
   // Whether the kept terms are at u (bit for bit) and nothing has written
   // over them since.
   bool kept_at(const Vec& u) const;
+  // The element results at hand (kept terms, the last pass's forces) no
+  // longer hold: what the elements see besides v changed (the limiting
+  // rate, the predictor's viscous floor).
+  void forget_passes() const { terms_kept_ = false, pass_id_ = 0; }
 
   const StepView& view_;
   const std::vector<std::array<double, 4>>& strain_;
