@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/timing.hpp"
+#include "la/inline_openmp.hpp"
 #include "la/klu_lu.hpp"
 
 namespace rpfem {
@@ -51,13 +52,18 @@ struct LU : Eigen::UmfPackLU<SpMat> {
 // host teams region of one team limited to one thread (OpenMP 5.0, 2.7
 // teams construct: thread_limit), every parallel region CHOLMOD opens gets
 // one thread; the kernel's own element loops run outside it, on their
-// threads.
+// threads. Within it the regions run inline (la/inline_openmp.hpp), without
+// the team of one that libgomp would start and end for each.
 template <class F>
 void on_one_thread(F&& f) {
 #ifdef _OPENMP
 #pragma omp teams num_teams(1) thread_limit(1)
-  f();
+  {
+    const InlineOpenMP inline_regions;
+    f();
+  }
 #else
+  const InlineOpenMP inline_regions;
   f();
 #endif
 }

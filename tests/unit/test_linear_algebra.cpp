@@ -8,8 +8,12 @@
 #include <filesystem>
 #include <string>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "fem/dof_map.hpp"
+#include "la/inline_openmp.hpp"
 #include "la/klu_lu.hpp"
 #include "la/linear_solver.hpp"
 #include "la/sparse_assembler.hpp"
@@ -175,11 +179,50 @@ TEST(LinearSolver, CholmodStartsNoThreads) {
   SpMat A(n, n);
   A.setFromTriplets(t.begin(), t.end());
   const int before = threads();
+  const std::uint64_t inlined = inline_openmp_regions();
   LinearSolver s(LinearSolverChoice::Cholmod, CholeskyMode::Supernodal);
   ASSERT_TRUE(s.factorize(A, true, 1));
   const Vec b = Vec::Ones(n);
   EXPECT_LT((A * s.solve(b) - b).norm(), 1e-10);
   EXPECT_EQ(threads(), before);
+  // Its regions reached the program's GOMP_parallel and ran inline, no
+  // team started for them (la/inline_openmp.hpp).
+  EXPECT_GT(inline_openmp_regions(), inlined);
+}
+
+// Outside an InlineOpenMP scope a parallel region gets its team from
+// libgomp, as ever; inside, the region runs on the calling thread alone.
+TEST(InlineOpenMP, RegionsRunInlineOnlyInsideTheScope) {
+#ifdef _OPENMP
+  int team = 0;
+#pragma omp parallel num_threads(2)
+  {
+#pragma omp single
+    team = omp_get_num_threads();
+  }
+  EXPECT_EQ(team, 2);
+  const std::uint64_t inlined = inline_openmp_regions();
+  {
+    const InlineOpenMP scope;
+    int runs = 0;
+#pragma omp parallel num_threads(2)
+    {
+      ++runs;  // a team of one: no race
+      team = omp_get_num_threads();
+    }
+    EXPECT_EQ(runs, 1);
+    EXPECT_EQ(team, 1);
+  }
+  EXPECT_EQ(inline_openmp_regions(), inlined + 1);
+#pragma omp parallel num_threads(2)
+  {
+#pragma omp single
+    team = omp_get_num_threads();
+  }
+  EXPECT_EQ(team, 2);
+#else
+  GTEST_SKIP() << "built without OpenMP";
+#endif
 }
 
 // KLU refactorizes a matrix of the pattern it factorized with the pivots
