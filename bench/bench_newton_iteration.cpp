@@ -31,6 +31,7 @@
 #include <memory>
 #include <vector>
 
+#include "la/inline_openmp.hpp"
 #include "la/klu_lu.hpp"
 #include "mesh/generate.hpp"
 #include "model/step_problem.hpp"
@@ -223,8 +224,8 @@ void BM_NewtonIterationRatio(benchmark::State& state) {
 
 // A factorization of the bench's tangent, symbolic analysis reused:
 // numeric factorization + solve per iteration, inside a host teams region
-// limited to one thread where one_thread (as la/linear_solver.cpp runs
-// CHOLMOD). CHOLMOD's supernodal (the kernel's) and simplicial (no BLAS)
+// limited to one thread, its OpenMP regions inline, where one_thread (as
+// la/linear_solver.cpp runs CHOLMOD). CHOLMOD's supernodal (the kernel's) and simplicial (no BLAS)
 // factorizations, and the supernodal one as CHOLMOD opens its OpenMP loops
 // (4 threads); UMFPACK (multifrontal, dense fronts through the BLAS)
 // against KLU (left-looking, no BLAS; a full factorization with its pivot
@@ -242,7 +243,10 @@ void factor_solve(benchmark::State& state) {
   for (auto _ : state) {
     if constexpr (one_thread) {
 #pragma omp teams num_teams(1) thread_limit(1)
-      factor.factorize(A);
+      {
+        const InlineOpenMP inline_regions;
+        factor.factorize(A);
+      }
     } else {
       factor.factorize(A);
     }
