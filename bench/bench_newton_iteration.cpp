@@ -225,8 +225,8 @@ void BM_NewtonIterationRatio(benchmark::State& state) {
 }
 
 // A factorization of the bench's tangent, symbolic analysis reused:
-// numeric factorization + solve per iteration, inside a host teams region
-// limited to one thread, its OpenMP regions inline, where one_thread (as
+// numeric factorization + solve per iteration, on one thread with its
+// OpenMP regions inline where one_thread (on_one_thread, as
 // la/linear_solver.cpp runs CHOLMOD). CHOLMOD's supernodal (the kernel's) and simplicial (no BLAS)
 // factorizations, and the supernodal one as CHOLMOD opens its OpenMP loops
 // (4 threads); UMFPACK (multifrontal, dense fronts through the BLAS)
@@ -244,11 +244,7 @@ void factor_solve(benchmark::State& state) {
   factor.analyzePattern(A);
   for (auto _ : state) {
     if constexpr (one_thread) {
-#pragma omp teams num_teams(1) thread_limit(1)
-      {
-        const InlineOpenMP inline_regions;
-        factor.factorize(A);
-      }
+      on_one_thread([&] { factor.factorize(A); });
     } else {
       factor.factorize(A);
     }

@@ -2,7 +2,7 @@
 //
 // Debian's CHOLMOD (SuiteSparse 5.12) opens an OpenMP parallel region for
 // each of its small clearing and copying loops, supernode by supernode.
-// Held to one thread (linear_solver.cpp: a host teams region with
+// Held to one thread (on_one_thread below: a host teams region with
 // thread_limit(1)), each region still starts and ends a team of one, and
 // libgomp ends every team at a barrier that wakes its waiters with a futex
 // system call, whether or not anyone waits: 1.14 million calls in 2 mm of
@@ -36,5 +36,27 @@ class InlineOpenMP {
 // Parallel regions run inline so far, over all threads: whether the
 // libraries' calls reach this program's GOMP_parallel (tests).
 std::uint64_t inline_openmp_regions();
+
+// Runs f with every OpenMP region a library opens on one thread, inline.
+// Debian's CHOLMOD (SuiteSparse 5.12) opens its supernodal loops with a
+// fixed CHOLMOD_OMP_NUM_THREADS = 4 threads; no arithmetic is split among
+// them, so the factor does not depend on their number, but on a 2-core
+// machine their barriers cost as much as the factorization itself (bench
+// BM_CholmodSupernodalFourThreads against BM_CholmodSupernodal). Inside a
+// host teams region of one team limited to one thread (OpenMP 5.0, 2.7
+// teams construct: thread_limit) every region gets one thread, and within
+// the InlineOpenMP scope it runs without the team libgomp would start and
+// end for it. The kernel's own element loops run outside, on their
+// threads.
+template <class F>
+void on_one_thread(F&& f) {
+#ifdef _OPENMP
+#pragma omp teams num_teams(1) thread_limit(1)
+#endif
+  {
+    const InlineOpenMP inline_regions;
+    f();
+  }
+}
 
 }  // namespace rpfem

@@ -42,32 +42,6 @@ struct LU : Eigen::UmfPackLU<SpMat> {
   }
 };
 
-// CHOLMOD's supernodal factorization (SuiteSparse 5.12 as Debian builds
-// it) clears and copies its arrays in OpenMP loops of a fixed
-// CHOLMOD_OMP_NUM_THREADS = 4 threads; no arithmetic is split among them,
-// so the factor does not depend on their number. On this 2-core machine
-// their barriers cost as much as the factorization itself (bench
-// BM_CholmodSupernodalFourThreads against BM_CholmodSupernodal: 1.84
-// against 0.98 ms at 1e3 unknowns, 858 against 521 ms at 1e5). Inside a
-// host teams region of one team limited to one thread (OpenMP 5.0, 2.7
-// teams construct: thread_limit), every parallel region CHOLMOD opens gets
-// one thread; the kernel's own element loops run outside it, on their
-// threads. Within it the regions run inline (la/inline_openmp.hpp), without
-// the team of one that libgomp would start and end for each.
-template <class F>
-void on_one_thread(F&& f) {
-#ifdef _OPENMP
-#pragma omp teams num_teams(1) thread_limit(1)
-  {
-    const InlineOpenMP inline_regions;
-    f();
-  }
-#else
-  const InlineOpenMP inline_regions;
-  f();
-#endif
-}
-
 }  // namespace
 
 struct LinearSolver::Impl {

@@ -20,8 +20,8 @@ inline bool element_loop_is_serial(Index n, int threads) { return threads <= 1 |
 // schedule). f must write only what belongs to element e, unless the loop
 // is serial (element_loop_is_serial).
 // A serial loop does not enter OpenMP at all: a parallel construct whose
-// if clause is false still starts and ends a team of one, a futex call
-// each (4 % of a remeshed run's time, docs/notes.md).
+// if clause is false still starts and ends a team of one, whose end is a
+// futex call (la/inline_openmp.hpp).
 template <class F>
 void for_each_element(Index n, int threads, F&& f) {
   if (element_loop_is_serial(n, threads)) {
