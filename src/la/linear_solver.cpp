@@ -1,24 +1,20 @@
 #include "la/linear_solver.hpp"
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "core/timing.hpp"
-#include "la/inline_openmp.hpp"
+#include "la/cholmod_llt.hpp"
 #include "la/klu_lu.hpp"
 
 namespace rpfem {
 
 namespace {
 
-// Eigen's wrappers keep the factors protected: these read their condition
-// estimates.
-struct Cholesky : Eigen::CholmodDecomposition<SpMat, Eigen::Lower> {
-  double rcond() { return m_cholmodFactor ? cholmod_rcond(m_cholmodFactor, &cholmod()) : 0.0; }
-};
+// Eigen's wrapper keeps the factors protected: this reads its condition
+// estimate.
 struct LU : Eigen::UmfPackLU<SpMat> {
   // UMFPACK's own Info[UMFPACK_RCOND] is of the row-scaled matrix R A; the
   // same estimate for A itself: P R A Q = L U gives P A Q = (S L S^-1)(S U)
@@ -45,26 +41,27 @@ struct LU : Eigen::UmfPackLU<SpMat> {
 }  // namespace
 
 struct LinearSolver::Impl {
-  Cholesky llt;
+  CholmodLLT llt;
   LU lu;
   KluLU klu;
   LuMode lu_mode;
   std::uint64_t llt_pattern = 0, lu_pattern = 0;  // 0: not analyzed
   bool use_lu = false;
   bool lu_is_klu = false;  // the LU analysis and factorization held are KLU's
-  Impl(CholeskyMode mode, LuMode l) : lu_mode(l) {
-    llt.setMode(mode == CholeskyMode::Simplicial ? Eigen::CholmodSimplicialLLt
-                : mode == CholeskyMode::Auto     ? Eigen::CholmodAuto
-                                                 : Eigen::CholmodSupernodalLLt);
-    llt.cholmod().print = 0;  // the kernel never prints
+  Impl(CholeskyMode mode, LuMode l)
+      : llt(mode == CholeskyMode::Simplicial ? CholmodLLT::Mode::Simplicial
+            : mode == CholeskyMode::Auto     ? CholmodLLT::Mode::Auto
+                                             : CholmodLLT::Mode::Supernodal),
+        lu_mode(l) {
+    llt.common().print = 0;  // the kernel never prints
     // Fill-reducing ordering by AMD only. CHOLMOD's default tries METIS
     // too where AMD's fill is large, and METIS installs its own SIGTERM
     // and SIGINT handlers while it runs (GKlib's gk_sigtrap), so a run
     // could not be stopped during an analysis. See docs/notes.md for
     // what it costs.
-    llt.cholmod().nmethods = 1;
-    llt.cholmod().method[0].ordering = CHOLMOD_AMD;
-    llt.cholmod().postorder = 1;
+    llt.common().nmethods = 1;
+    llt.common().method[0].ordering = CHOLMOD_AMD;
+    llt.common().postorder = 1;
   }
 };
 
@@ -79,16 +76,16 @@ bool LinearSolver::factorize(const SpMat& A, bool symmetric, std::uint64_t patte
   held_pattern_ = 0;
   if (try_llt) {
     if (impl_->llt_pattern != pattern_version) {
-      on_one_thread([&] { impl_->llt.analyzePattern(A); });
+      impl_->llt.analyze(A);
       impl_->llt_pattern = pattern_version;
       ++stats_.analyses;
       stats_.analyze_seconds += seconds_since(t0);
       t0 = Clock::now();
     }
-    on_one_thread([&] { impl_->llt.factorize(A); });
+    const bool ok = impl_->llt.factorize(A);
     ++stats_.by_cholmod;
     stats_.factor_seconds += seconds_since(t0);
-    if (impl_->llt.info() == Eigen::Success) {
+    if (ok) {
       impl_->use_lu = false;
       stats_.last_solver = "cholmod";
       note_rcond(impl_->llt.rcond());
@@ -145,7 +142,7 @@ Vec LinearSolver::solve(const Vec& b) {
   if (impl_->use_lu)
     x = impl_->lu_is_klu ? impl_->klu.solve(b) : Vec(impl_->lu.solve(b));
   else
-    on_one_thread([&] { x = impl_->llt.solve(b); });
+    x = impl_->llt.solve(b);
   stats_.solve_seconds += seconds_since(t0);
   return x;
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -12,7 +13,10 @@
 #include <omp.h>
 #endif
 
+#include <Eigen/CholmodSupport>
+
 #include "fem/dof_map.hpp"
+#include "la/cholmod_llt.hpp"
 #include "la/inline_openmp.hpp"
 #include "la/klu_lu.hpp"
 #include "la/linear_solver.hpp"
@@ -154,6 +158,69 @@ TEST(LinearSolver, AutoLuIsKluForSmallSystemsUmfpackForLarge) {
     EXPECT_EQ(s.stats().by_umfpack, n < kKluMaxRows ? 0 : 1) << n;
     EXPECT_EQ(s.stats().by_cholmod, 0) << n;
     EXPECT_LT((A * s.solve(b) - b).norm(), 1e-12 * b.norm()) << n;
+  }
+}
+
+// CholmodLLT hands CHOLMOD tril(P A P^T) in the natural ordering, gathered
+// from A, for a supernodal factor (a simplicial one takes CHOLMOD's own
+// path): the solutions are what CHOLMOD computes from A with its own
+// ordering (Eigen's wrapper, the same AMD and postorder), to the bit, for
+// new values of the same pattern too; an indefinite matrix is refused as
+// CHOLMOD refuses it.
+TEST(CholmodLLT, FactorizesTheMatrixInTheFactorsOrderAsCholmodDoes) {
+  const int m = 40, n = 2 * m * m;  // two unknowns per node of a 40 x 40 grid
+  const auto matrix = [&](double shift) {
+    std::vector<Eigen::Triplet<double>> t;
+    const auto couple = [&](int a, int b, double w) {
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+          const double c = (i == j ? 1.0 : 0.3) * w;
+          t.emplace_back(2 * a + i, 2 * a + j, c), t.emplace_back(2 * b + i, 2 * b + j, c);
+          t.emplace_back(2 * a + i, 2 * b + j, -c), t.emplace_back(2 * b + j, 2 * a + i, -c);
+        }
+    };
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) {
+        const int k = i * m + j;
+        t.emplace_back(2 * k, 2 * k, shift), t.emplace_back(2 * k + 1, 2 * k + 1, shift);
+        if (i > 0) couple(k, k - m, 1.0 + 0.01 * ((7 * k) % 13));
+        if (j > 0) couple(k, k - 1, 1.0 + 0.01 * ((11 * k) % 17));
+        if (i > 0 && j > 0) couple(k, k - m - 1, 0.5);
+      }
+    SpMat A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+  };
+  const Vec b = Vec::LinSpaced(n, -1, 2);
+  for (const bool super : {true, false}) {
+    Eigen::CholmodDecomposition<SpMat, Eigen::Lower> ref;
+    ref.setMode(super ? Eigen::CholmodSupernodalLLt : Eigen::CholmodSimplicialLLt);
+    CholmodLLT llt(super ? CholmodLLT::Mode::Supernodal : CholmodLLT::Mode::Simplicial);
+    for (cholmod_common* c : {&ref.cholmod(), &llt.common()}) {
+      c->print = 0;
+      c->nmethods = 1;
+      c->method[0].ordering = CHOLMOD_AMD;
+      c->postorder = 1;
+    }
+    const SpMat A = matrix(0.1);
+    on_one_thread([&] { ref.analyzePattern(A); });
+    llt.analyze(A);
+    EXPECT_EQ(llt.supernodal(), super);
+    for (const double shift : {0.1, 2.5}) {
+      SCOPED_TRACE(testing::Message() << (super ? "supernodal" : "simplicial") << ", shift " << shift);
+      const SpMat As = matrix(shift);
+      on_one_thread([&] { ref.factorize(As); });
+      ASSERT_EQ(ref.info(), Eigen::Success);
+      ASSERT_TRUE(llt.factorize(As));
+      Vec xr;
+      on_one_thread([&] { xr = ref.solve(b); });
+      const Vec x = llt.solve(b);
+      EXPECT_LT((As * x - b).norm(), 1e-10 * b.norm());
+      EXPECT_EQ(std::memcmp(x.data(), xr.data(), sizeof(double) * n), 0) << (x - xr).norm();
+    }
+    SpMat I = matrix(0.1);
+    I.coeffRef(17, 17) = -1.0;
+    EXPECT_FALSE(llt.factorize(I));
   }
 }
 
