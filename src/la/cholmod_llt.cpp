@@ -34,6 +34,7 @@ void CholmodLLT::analyze(const SpMat& A) {
   if (!L || impl_->info() != Eigen::Success) throw std::runtime_error("CHOLMOD's symbolic analysis failed");
   perm_.clear(), gather_.clear();
   S_ = SpMat();
+  rows_ = A.rows(), nonzeros_ = A.nonZeros();
   // A simplicial factor keeps CHOLMOD's own path: cholmod_rowfac needs
   // triu(S), a transpose of tril even in the natural ordering, and it sums
   // its updates in an order that follows the order of S's entries, which
@@ -86,6 +87,8 @@ void CholmodLLT::analyze(const SpMat& A) {
 }
 
 bool CholmodLLT::factorize(const SpMat& A) {
+  if (A.rows() != rows_ || A.nonZeros() != nonzeros_)
+    throw std::logic_error("CholmodLLT::factorize: the matrix is not of the analyzed pattern");
   if (perm_.empty()) {  // simplicial: CHOLMOD's own path
     on_one_thread([&] { impl_->factorize(A); });
     return impl_->info() == Eigen::Success;

@@ -41,7 +41,10 @@ class CholmodLLT {
   // CHOLMOD's settings; read by analyze().
   cholmod_common& common();
   // The symbolic analysis of A's pattern (its lower triangle: A may hold
-  // both). Every later factorize() takes a matrix of this very pattern.
+  // both). Every later factorize() takes a matrix of this very pattern
+  // (its value positions are the gather's); one of another size or
+  // number of stored entries is a std::logic_error. Throws
+  // std::runtime_error where CHOLMOD's analysis fails (out of memory).
   void analyze(const SpMat& A);
   // The numeric factorization; false where A is not positive definite.
   bool factorize(const SpMat& A);
@@ -58,6 +61,7 @@ class CholmodLLT {
   std::vector<int> perm_;    // the factor's ordering: row k of P A P^T is A's row perm_[k]; empty: CHOLMOD's own path
   std::vector<int> gather_;  // S's values: S.value[k] = A.value[gather_[k]]
   SpMat S_;                  // tril(P A P^T), the matrix CHOLMOD factorizes
+  Index rows_ = -1, nonzeros_ = -1;  // the analyzed pattern's (a cheap check of it)
   Vec y_;                    // P b
 };
 

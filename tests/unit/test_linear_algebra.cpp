@@ -166,7 +166,7 @@ TEST(LinearSolver, AutoLuIsKluForSmallSystemsUmfpackForLarge) {
 // path): the solutions are what CHOLMOD computes from A with its own
 // ordering (Eigen's wrapper, the same AMD and postorder), to the bit, for
 // new values of the same pattern too; an indefinite matrix is refused as
-// CHOLMOD refuses it.
+// CHOLMOD refuses it, a matrix of another pattern as a logic error.
 TEST(CholmodLLT, FactorizesTheMatrixInTheFactorsOrderAsCholmodDoes) {
   const int m = 40, n = 2 * m * m;  // two unknowns per node of a 40 x 40 grid
   const auto matrix = [&](double shift) {
@@ -221,6 +221,11 @@ TEST(CholmodLLT, FactorizesTheMatrixInTheFactorsOrderAsCholmodDoes) {
     SpMat I = matrix(0.1);
     I.coeffRef(17, 17) = -1.0;
     EXPECT_FALSE(llt.factorize(I));
+    // A matrix of another pattern is refused, not read through the
+    // analyzed pattern's positions.
+    SpMat J = matrix(0.1);
+    J.coeffRef(0, n - 1) = J.coeffRef(n - 1, 0) = 1e-3;
+    EXPECT_THROW(llt.factorize(J), std::logic_error);
   }
 }
 
