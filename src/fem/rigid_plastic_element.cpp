@@ -43,45 +43,51 @@ FlowPoint material_point(const RigidPlasticInput& in, int q, double rate) {
 // Volumetric rate row of a point's B: epsdot_v = b_v . v.
 Vec8 volumetric_row(const Mat48& B) { return (B.row(0) + B.row(1) + B.row(2)).transpose(); }
 
+// The element's Hessian by rows while it is summed: a row's eight entries
+// are one vector, so each step below is one packed operation over them.
+using RowHessian = Eigen::Matrix<double, 8, 8, Eigen::RowMajor>;
+
 // A point's Hessian, H += s B^T P B + c g g^T, formed over B's structural
 // zeros (quad4.cpp): node a's x column is (b, 0, h, c) = (dN/dx, 0, N/r,
 // dN/dy), its y column (0, c, 0, b); P couples the normal rates among
 // themselves and gamma with itself. Only the products that are not with a
 // structural zero are formed, in the order the dense products sum them,
 // so H is the dense products' to the bit (tests/unit: the element terms
-// against the dense ones) for about two thirds of their operations. c = 0:
+// against the dense ones) for about two thirds of their operations. Each
+// entry's operations are the same whether a row's entries are taken one
+// by one or as a vector (coefficient-wise, no fused multiply-add). c = 0:
 // the secant part alone.
-void add_point_hessian(const Mat48& B, double s, double c, const Vec8& g, Mat8& H) {
+void add_point_hessian(const Mat48& B, double s, double c, const Vec8& g, RowHessian& H) {
   const auto& P = effective_rate_metric();
-  double PB[4][8];  // P B: rows e11, e22, e33, gamma
+  Eigen::Matrix<double, 4, 8, Eigen::RowMajor> PB;  // P B: rows e11, e22, e33, gamma
   for (int a = 0; a < 4; ++a) {
     const int x = 2 * a, y = x + 1;
     for (int k = 0; k < 3; ++k) {
-      PB[k][x] = P(k, 0) * B(0, x) + P(k, 2) * B(2, x);
-      PB[k][y] = P(k, 1) * B(1, y);
+      PB(k, x) = P(k, 0) * B(0, x) + P(k, 2) * B(2, x);
+      PB(k, y) = P(k, 1) * B(1, y);
     }
-    PB[3][x] = P(3, 3) * B(3, x);
-    PB[3][y] = P(3, 3) * B(3, y);
+    PB(3, x) = P(3, 3) * B(3, x);
+    PB(3, y) = P(3, 3) * B(3, y);
   }
   // Each entry takes its secant term, then its rank-one term, in turn:
   // the sums of the two dense products added one after the other.
-  const Vec8 cg = c * g;
-  for (int j = 0; j < 8; ++j)
-    for (int a = 0; a < 4; ++a) {
-      const int x = 2 * a, y = x + 1;
-      H(x, j) += s * ((B(0, x) * PB[0][j] + B(2, x) * PB[2][j]) + B(3, x) * PB[3][j]);
-      H(y, j) += s * (B(1, y) * PB[1][j] + B(3, y) * PB[3][j]);
-      if (c != 0) H(x, j) += g(j) * cg(x), H(y, j) += g(j) * cg(y);
-    }
+  const Eigen::Matrix<double, 1, 8> gt = g.transpose();
+  for (int a = 0; a < 4; ++a) {
+    const int x = 2 * a, y = x + 1;
+    H.row(x) += s * ((B(0, x) * PB.row(0) + B(2, x) * PB.row(2)) + B(3, x) * PB.row(3));
+    H.row(y) += s * (B(1, y) * PB.row(1) + B(3, y) * PB.row(3));
+    if (c != 0) H.row(x) += (c * g(x)) * gt, H.row(y) += (c * g(y)) * gt;
+  }
 }
 
 template <bool kGrad>
 double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
   const auto& P = effective_rate_metric();
   double energy = 0;
+  RowHessian H;
   if constexpr (kGrad) {
     out->grad.setZero();
-    out->hess.setZero();
+    H.setZero();
   }
   // The element's mean dilatation row, volume-weighted over the 2x2 points
   // (the volumetric penalty below), summed in the same loop.
@@ -107,7 +113,7 @@ double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
       out->grad.noalias() += w * secant * g;
       if (t == Tangent::None) continue;
       const bool consistent = t == Tangent::Consistent && !f.rigid;
-      add_point_hessian(B, w * secant, consistent ? w * ((f.dsigma - secant) / (rate * rate)) : 0.0, g, out->hess);
+      add_point_hessian(B, w * secant, consistent ? w * ((f.dsigma - secant) / (rate * rate)) : 0.0, g, H);
     }
   }
   // Volumetric penalty on the element's mean dilatation (Nagtegaal, Parks
@@ -122,6 +128,7 @@ double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
   energy += 0.5 * in.alpha * wc * ev * ev;
   if constexpr (kGrad) {
     out->grad.noalias() += in.alpha * wc * ev * bv;
+    out->hess = H;
     if (t != Tangent::None) out->hess.noalias() += in.alpha * wc * bv * bv.transpose();
     out->energy = energy;
   }
