@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "app/linked_blas.hpp"
+#include "la/cholmod_llt.hpp"
 #include "la/inline_openmp.hpp"
 #include "la/klu_lu.hpp"
 #include "mesh/generate.hpp"
@@ -207,10 +208,7 @@ void BM_NewtonIterationRatio(benchmark::State& state) {
   const Vec b = Vec::Ones(f.u.size());
   const SpMat& A0 = f.problem->tangent(f.u, true);
   Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> cholmod;
-  cholmod.cholmod().print = 0;
-  cholmod.cholmod().nmethods = 1;
-  cholmod.cholmod().method[0].ordering = CHOLMOD_AMD;
-  cholmod.cholmod().postorder = 1;
+  set_kernel_options(cholmod.cholmod());
   on_one_thread([&] { cholmod.analyzePattern(A0); });
   using Clock = std::chrono::steady_clock;
   const auto ms = [](Clock::time_point a, Clock::time_point z) {

@@ -14,14 +14,20 @@ struct CholmodLLT::Impl : Eigen::CholmodDecomposition<SpMat, Eigen::Lower> {
   cholmod_factor* factor() { return m_cholmodFactor; }
 };
 
+void set_kernel_options(cholmod_common& c) {
+  c.print = 0;
+  c.nmethods = 1;
+  c.method[0].ordering = CHOLMOD_AMD;
+  c.postorder = 1;
+}
+
 CholmodLLT::CholmodLLT(Mode mode) : impl_(std::make_unique<Impl>()) {
   impl_->setMode(mode == Mode::Simplicial ? Eigen::CholmodSimplicialLLt
                  : mode == Mode::Auto     ? Eigen::CholmodAuto
                                           : Eigen::CholmodSupernodalLLt);
+  set_kernel_options(impl_->cholmod());
 }
 CholmodLLT::~CholmodLLT() = default;
-
-cholmod_common& CholmodLLT::common() { return impl_->cholmod(); }
 
 bool CholmodLLT::supernodal() const {
   cholmod_factor* L = impl_->factor();
@@ -83,7 +89,6 @@ void CholmodLLT::analyze(const SpMat& A) {
     gather_[k] = entries[k].src;
   }
   std::partial_sum(so, so + n + 1, so);
-  y_.resize(n);
 }
 
 bool CholmodLLT::factorize(const SpMat& A) {
@@ -107,9 +112,9 @@ Vec CholmodLLT::solve(const Vec& b) {
     return x;
   }
   const int n = static_cast<int>(perm_.size());
-  for (int k = 0; k < n; ++k) y_(k) = b(perm_[k]);  // P b
-  Vec z;
-  on_one_thread([&] { z = impl_->solve(y_); });
+  Vec y(n), z;
+  for (int k = 0; k < n; ++k) y(k) = b(perm_[k]);  // P b
+  on_one_thread([&] { z = impl_->solve(y); });
   x.resize(n);
   for (int k = 0; k < n; ++k) x(perm_[k]) = z(k);  // P^T z
   return x;

@@ -30,6 +30,15 @@
 
 namespace rpfem {
 
+// The kernel's CHOLMOD options, set on a CholmodLLT at its construction
+// (and on a bare CHOLMOD factorization compared with it: the bench, the
+// tests): no printing (the kernel never prints), and the fill-reducing
+// ordering by AMD only, postordered. CHOLMOD's default tries METIS too
+// where AMD's fill is large, and METIS installs its own SIGTERM and SIGINT
+// handlers while it runs (GKlib's gk_sigtrap), so a run could not be
+// stopped during an analysis (docs/notes.md for what it costs).
+void set_kernel_options(cholmod_common& c);
+
 class CholmodLLT {
  public:
   enum class Mode { Supernodal, Simplicial, Auto };  // CHOLMOD's supernodal switch
@@ -38,8 +47,6 @@ class CholmodLLT {
   CholmodLLT(const CholmodLLT&) = delete;
   CholmodLLT& operator=(const CholmodLLT&) = delete;
 
-  // CHOLMOD's settings; read by analyze().
-  cholmod_common& common();
   // The symbolic analysis of A's pattern (its lower triangle: A may hold
   // both). Every later factorize() takes a matrix of this very pattern
   // (its value positions are the gather's); one of another size or
@@ -62,7 +69,6 @@ class CholmodLLT {
   std::vector<int> gather_;  // S's values: S.value[k] = A.value[gather_[k]]
   SpMat S_;                  // tril(P A P^T), the matrix CHOLMOD factorizes
   Index rows_ = -1, nonzeros_ = -1;  // the analyzed pattern's (a cheap check of it)
-  Vec y_;                    // P b
 };
 
 }  // namespace rpfem

@@ -52,17 +52,7 @@ struct LinearSolver::Impl {
       : llt(mode == CholeskyMode::Simplicial ? CholmodLLT::Mode::Simplicial
             : mode == CholeskyMode::Auto     ? CholmodLLT::Mode::Auto
                                              : CholmodLLT::Mode::Supernodal),
-        lu_mode(l) {
-    llt.common().print = 0;  // the kernel never prints
-    // Fill-reducing ordering by AMD only. CHOLMOD's default tries METIS
-    // too where AMD's fill is large, and METIS installs its own SIGTERM
-    // and SIGINT handlers while it runs (GKlib's gk_sigtrap), so a run
-    // could not be stopped during an analysis. See docs/notes.md for
-    // what it costs.
-    llt.common().nmethods = 1;
-    llt.common().method[0].ordering = CHOLMOD_AMD;
-    llt.common().postorder = 1;
-  }
+        lu_mode(l) {}
 };
 
 LinearSolver::LinearSolver(LinearSolverChoice choice, CholeskyMode mode, LuMode lu)

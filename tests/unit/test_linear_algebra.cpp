@@ -196,12 +196,7 @@ TEST(CholmodLLT, FactorizesTheMatrixInTheFactorsOrderAsCholmodDoes) {
     Eigen::CholmodDecomposition<SpMat, Eigen::Lower> ref;
     ref.setMode(super ? Eigen::CholmodSupernodalLLt : Eigen::CholmodSimplicialLLt);
     CholmodLLT llt(super ? CholmodLLT::Mode::Supernodal : CholmodLLT::Mode::Simplicial);
-    for (cholmod_common* c : {&ref.cholmod(), &llt.common()}) {
-      c->print = 0;
-      c->nmethods = 1;
-      c->method[0].ordering = CHOLMOD_AMD;
-      c->postorder = 1;
-    }
+    set_kernel_options(ref.cholmod());
     const SpMat A = matrix(0.1);
     on_one_thread([&] { ref.analyzePattern(A); });
     llt.analyze(A);
