@@ -8,6 +8,7 @@
 #include "node_to_segment/node_to_segment.hpp"
 #include "none/no_contact.hpp"
 #include "penalty/penalty_enforcement.hpp"
+#include "ssn/ssn_enforcement.hpp"
 
 namespace rpfem {
 
@@ -20,6 +21,8 @@ const std::vector<FormulationInfo>& formulations() {
                  "conditions", true, true},
       {"ipopt", "each step a constrained minimization solved by Ipopt: the Kuhn-Tucker contact conditions to solver "
                 "tolerance", true, true, true},
+      {"ssn", "semi-smooth Newton on the Kuhn-Tucker and friction conditions: exact contact and exact (unregularized) "
+              "friction, the rows' forces as unknowns of each step's Newton iteration", true, true, true, true},
   };
   return list;
 }
@@ -130,6 +133,7 @@ std::unique_ptr<ContactFormulation> make_contact(CaseFile& file, const Scene& sc
   else if (name == "penalty") enf = std::make_unique<PenaltyEnforcement>(scene, all.section("penalty"), *disc);
   else if (name == "auglag") enf = std::make_unique<AugLagEnforcement>(scene, all.section("auglag"), *disc);
   else if (name == "ipopt") enf = std::make_unique<IpoptEnforcement>(scene, all.section("ipopt"), *disc);
+  else if (name == "ssn") enf = std::make_unique<SsnEnforcement>(scene, all.section("ssn"), *disc);
   else throw InputError(file.path() + ": enforcement '" + name + "' is unknown; expected one of: " + formulation_names());
   return std::make_unique<ContactModel>(scene, std::move(disc), std::move(enf), settings);
 }

@@ -25,6 +25,9 @@ struct FormulationInfo {
   // over-constrains a non-matching interface for it (Puso and Laursen
   // 2004). It runs two pass when a case asks, but the suite does not add it.
   bool exact = false;
+  // Refuses a discretization that over-constrains (DiscretizationInfo::
+  // overconstrains) between bodies: its rows' forces are unknowns.
+  bool refuses_overconstrained = false;
 };
 // The enforcements ("none" first).
 const std::vector<FormulationInfo>& formulations();

@@ -1,5 +1,7 @@
 #include "auglag/auglag_enforcement.hpp"
 
+#include "contact/friction_treatment.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +31,7 @@ constexpr double kOmegaMin = 1.0, kOmegaMax = 1e3;
 
 AugLagEnforcement::AugLagEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
     : RegularizedEnforcement(disc, read_settings(scene, settings, disc)) {
+  require_friction_treatment(scene, name(), {});
   tol_primal_ = settings.real("tolerance", 1e-9, Range::positive(),
                               "largest end-of-step penetration, relative to the element size");
   tol_compl_ = settings.real("complementarity_tolerance", 1e-8, Range::positive(),

@@ -1,5 +1,7 @@
 #include "direct/direct_enforcement.hpp"
 
+#include "contact/friction_treatment.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,6 +12,7 @@ namespace rpfem {
 
 DirectEnforcement::DirectEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
     : scene_(scene), disc_(disc) {
+  require_friction_treatment(scene, name(), {});
   if (!disc.node_rows_on_dies())
     throw InputError(scene.file + ": key 'contact.dies' = 'mortar': enforcement 'direct' holds a node on a die by "
                      "elimination, one node at a time; expected contact.dies = 'node', or enforcement 'penalty', "

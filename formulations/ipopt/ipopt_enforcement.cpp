@@ -1,5 +1,7 @@
 #include "ipopt/ipopt_enforcement.hpp"
 
+#include "contact/friction_treatment.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -23,6 +25,7 @@ double force_scale(const Scene& scene, const ContactDiscretization& disc) {
 
 IpoptEnforcement::IpoptEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
     : disc_(disc), solver_(scene, settings, force_scale(scene, disc)) {
+  require_friction_treatment(scene, name(), {});
   friction_tol_ = settings.real("friction_tolerance", 1e-6, Range::positive(),
                                 "relative change of the friction bounds that ends the fixed point");
   predict_ = settings.flag("predict_bounds", true);

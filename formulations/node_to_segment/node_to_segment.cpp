@@ -15,6 +15,13 @@ NodeToSegment::NodeToSegment(const Scene& scene, CaseSection settings, bool two_
   for (int i = 0; i < static_cast<int>(surfaces_.interfaces().size()); ++i) roles_.push_back({surfaces_.finer(i)});
 }
 
+bool NodeToSegment::overconstrains() const {
+  if (!two_pass_) return false;
+  for (const auto& f : surfaces_.interfaces())
+    if (f.die < 0) return true;
+  return false;
+}
+
 void NodeToSegment::rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>& events) {
   out.clear();
   master_penetration_ = 0;

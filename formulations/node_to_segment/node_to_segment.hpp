@@ -30,6 +30,7 @@ class NodeToSegment final : public ContactDiscretization {
  public:
   NodeToSegment(const Scene& scene, CaseSection settings, bool two_pass);
   std::string name() const override { return two_pass_ ? "two_pass" : "node_to_segment"; }
+  bool overconstrains() const override;
   const std::vector<ContactInterface>& interfaces() const override { return surfaces_.interfaces(); }
   void rows(const StepView& v, std::vector<ContactRow>& out, std::vector<std::string>& events) override;
   void areas(const StepView& v, const std::vector<ContactRow>& rows, const std::vector<char>& in_contact,

@@ -1,5 +1,7 @@
 #include "penalty/penalty_enforcement.hpp"
 
+#include "contact/friction_treatment.hpp"
+
 namespace rpfem {
 
 namespace {
@@ -20,6 +22,8 @@ RegularizedSettings read_settings(const Scene& scene, CaseSection& s, const Cont
 }  // namespace
 
 PenaltyEnforcement::PenaltyEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
-    : RegularizedEnforcement(disc, read_settings(scene, settings, disc)) {}
+    : RegularizedEnforcement(disc, read_settings(scene, settings, disc)) {
+  require_friction_treatment(scene, name(), {});
+}
 
 }  // namespace rpfem

@@ -298,6 +298,9 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
   auto& slip = out.fields["slip_velocity"];
   auto& gap = out.fields["contact_gap"];
   for (auto* f : {&pr, &sh, &slip, &gap}) f->assign(n, 0.0);
+  // Exact friction: per slave node 1 sticking, -1 slipping, 0 otherwise.
+  std::vector<double>* stick = enf_->exact_friction() ? &out.fields["stick_slip"] : nullptr;
+  if (stick) stick->assign(n, 0.0);
   std::vector<Vec2> die_load(scene_.dies.size(), Vec2::Zero());
   std::vector<std::vector<Index>> die_nodes(scene_.dies.size());
   for (std::size_t i = 0; i < rows_.size(); ++i) {
@@ -316,6 +319,7 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
     // Pressure and shear over the slave node's share of the surface.
     if (r.weight > 0) pr[s] += res[i].normal / r.weight, sh[s] += res[i].friction / r.weight;
     if (res[i].in_contact) slip[s] = res[i].slip;
+    if (stick && res[i].stick) (*stick)[s] = res[i].stick;
   }
   // A die's load: the force it exerts on the bodies, the mirrored part of
   // a symmetric model included.

@@ -82,6 +82,9 @@ struct RowResult {
   double normal = 0;    // N, normal force (> 0 pressing)
   double friction = 0;  // N, friction force on the slave along t = (-n_y, n_x)
   double slip = 0;      // mm/s, gamma_T
+  // Exact friction (ContactEnforcement::exact_friction): 1 sticking, -1
+  // slipping; 0 not in contact, frictionless, or the arctan law.
+  int stick = 0;
   // The force on the slave node when it is not c_0 (N n + T t): a node held
   // by elimination whose reaction also holds the kernel's constraints there
   // (a die's apex on the axis: the whole nodal reaction is the die's load,

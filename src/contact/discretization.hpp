@@ -26,6 +26,10 @@ class ContactDiscretization {
   // Whether every row against a die is one node's (an enforcement that
   // holds nodes on dies by elimination needs it).
   virtual bool node_rows_on_dies() const { return true; }
+  // Whether it sets rows that are not linearly independent (two pass
+  // between bodies: each contact held from both sides, Puso and Laursen
+  // 2004); an enforcement solving the rows with multipliers refuses it.
+  virtual bool overconstrains() const { return false; }
   // After a remesh, before the first rows: the contact the last mesh's
   // treatment left (model/contact_formulation.hpp). A discretization whose
   // roles are chosen once keeps them.

@@ -11,10 +11,13 @@ std::string FrictionLaw::describe() const {
   char buf[96];
   switch (kind) {
     case Kind::None: return "frictionless";
-    case Kind::Factor: std::snprintf(buf, sizeof buf, "friction factor m = %g, a = %g", m, a_relative); break;
-    case Kind::Coulomb: std::snprintf(buf, sizeof buf, "Coulomb mu = %g, a = %g", mu, a_relative); break;
+    case Kind::Factor: std::snprintf(buf, sizeof buf, "friction factor m = %g", m); break;
+    case Kind::Coulomb: std::snprintf(buf, sizeof buf, "Coulomb mu = %g", mu); break;
   }
-  return buf;
+  std::string out = buf;
+  if (treatment == Treatment::Exact) return out + ", exact";
+  std::snprintf(buf, sizeof buf, ", a = %g", a_relative);
+  return out + buf + (treatment == Treatment::Arctan ? " (arctan)" : "");
 }
 
 ArctanPotential arctan_potential(double s, double a) {

@@ -7,6 +7,12 @@
 //   friction factor: tau_max = m k,           k = sigma_bar / sqrt(3)
 //   Coulomb:         tau_max = min(mu p, k),  p the normal pressure
 // Shared by the contact formulations; the kernel does not use it.
+//
+// The law may instead be treated exactly (`regularization = "exact"` in its
+// table): no smoothing speed, the slip rate zero where the friction force
+// is below tau_max (stick) and the force tau_max opposing the slip
+// elsewhere (slip), the conditions as complementarity functions solved by
+// the semi-smooth Newton enforcement (formulations/ssn/ncp.hpp).
 #pragma once
 #include <string>
 
@@ -18,6 +24,15 @@ struct FrictionLaw {
   double m = 0;            // friction factor, 0..1
   double mu = 0;           // Coulomb coefficient
   double a_relative = 1e-3;  // a = a_relative * (largest prescribed speed of the scene)
+  // `regularization`: the arctan law above or the exact law; Default (the
+  // key unset): the enforcement's own (exact under ssn, arctan elsewhere).
+  enum class Treatment { Default, Arctan, Exact };
+  Treatment treatment = Treatment::Default;
+  // Whether the law is treated exactly by an enforcement whose default is
+  // exact_by_default.
+  bool exact(bool exact_by_default) const {
+    return kind != Kind::None && (treatment == Treatment::Exact || (treatment == Treatment::Default && exact_by_default));
+  }
   std::string describe() const;
   // The smoothing speed a (mm/s) for the scene's speed scale (mm/s).
   double smoothing_speed(double speed_scale) const { return a_relative * speed_scale; }

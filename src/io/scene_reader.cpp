@@ -137,7 +137,7 @@ FrictionLaw read_friction(CaseSection f) {
   const std::string law = f.text("law", "none", {"none", "factor", "coulomb"});
   // The other laws' coefficients may stay in the file (so a variant can
   // switch the law by one key); they are not used.
-  for (const char* k : {"m", "mu", "a"})
+  for (const char* k : {"m", "mu", "a", "regularization"})
     if (!(law == "factor" && std::string(k) != "mu") && !(law == "coulomb" && std::string(k) != "m")) f.ignore(k);
   if (law == "factor") {
     out.kind = FrictionLaw::Kind::Factor;
@@ -146,8 +146,15 @@ FrictionLaw read_friction(CaseSection f) {
     out.kind = FrictionLaw::Kind::Coulomb;
     out.mu = f.real("mu", std::nullopt, Range::nonnegative(), "Coulomb coefficient");
   }
-  if (law != "none")
-    out.a_relative = f.real("a", 1e-3, Range::positive(), "arctan smoothing speed, relative to the largest prescribed speed");
+  if (law == "none") return out;
+  // Unset: the enforcement's default (exact under ssn, arctan elsewhere);
+  // an enforcement that cannot treat the law as asked refuses the run.
+  if (f.has("regularization")) {
+    const std::string r = f.text("regularization", "arctan", {"arctan", "exact"});
+    out.treatment = r == "exact" ? FrictionLaw::Treatment::Exact : FrictionLaw::Treatment::Arctan;
+  }
+  if (out.treatment == FrictionLaw::Treatment::Exact) f.ignore("a");
+  else out.a_relative = f.real("a", 1e-3, Range::positive(), "arctan smoothing speed, relative to the largest prescribed speed");
   return out;
 }
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `rpfem suite` end to end on one coarse scene: every formulation
-# that treats rigid dies runs (direct, penalty, ipopt), suite.json lists
-# them (auglag too), and the report is built (HTML and its Markdown twin showing the
+# that treats rigid dies runs (direct, penalty, auglag, ipopt, ssn), suite.json lists
+# them, and the report is built (HTML and its Markdown twin showing the
 # figure files in report_files/). A broken report path breaks CI here.
 set -u
 rpfem=$1; src=$2
@@ -12,11 +12,11 @@ out=$("$rpfem" suite --cases "$tmp/cases" --out "$tmp/o" --jobs 2 --set stepping
   --set bodies.billet.mesh.nx=6 --set bodies.billet.mesh.ny=6 2>&1); rc=$?
 echo "$out" | tail -5
 [ "$rc" -eq 0 ] || { echo "FAIL: exit code $rc"; exit 1; }
-for f in direct penalty auglag ipopt; do
+for f in direct penalty auglag ipopt ssn; do
   grep -q "\"formulation\" : \"$f\"" "$tmp/o/suite.json" || { echo "FAIL: no $f run in suite.json"; exit 1; }
   [ -s "$tmp/o/upsetting_dies_frictionless_axisym/$f/history.csv" ] || { echo "FAIL: no $f history"; exit 1; }
 done
-[ "$(grep -c '"exit_code" : 0' "$tmp/o/suite.json")" -eq 4 ] || { echo "FAIL: a run did not finish"; exit 1; }
+[ "$(grep -c '"exit_code" : 0' "$tmp/o/suite.json")" -eq 5 ] || { echo "FAIL: a run did not finish"; exit 1; }
 echo "$out" | grep -q "report: .*report.html" || { echo "FAIL: report path not printed"; exit 1; }
 # A cases folder without studies/: none run, the report has no Studies section.
 [ ! -d "$tmp/o/studies" ] && ! grep -q "^## Studies" "$tmp/o/report.md" || { echo "FAIL: a Studies section without studies"; exit 1; }
@@ -78,4 +78,4 @@ grep -q "FAIL" "$tmp/v2" && grep -q '"failed" : 1' "$tmp/o/verification.json" \
   > "$tmp/err" 2>&1; rc=$?
 [ "$rc" -eq 2 ] && grep -q "upsetting_dies_frictionless_axisym.toml: key 'run.suite_formulations': 'nosuch'" "$tmp/err" \
   || { echo "FAIL: a bad suite_formulations entry gave exit $rc"; cat "$tmp/err"; exit 1; }
-echo "ok: suite ran 3 formulations and built the report"
+echo "ok: suite ran every enforcement and built the report"

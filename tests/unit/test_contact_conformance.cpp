@@ -28,6 +28,7 @@
 #include "io/scene_reader.hpp"
 #include "model/step_problem.hpp"
 #include "model/stepper.hpp"
+#include "ssn/ssn_step_solver.hpp"
 #include "temp_file.hpp"
 
 using namespace rpfem;
@@ -269,7 +270,7 @@ std::vector<Combination> combinations() {
           out.push_back({"dies", e.name, d.name, law});
           if (law == "none") out.push_back({"multiplier", e.name, d.name, law});
         }
-      if (e.bodies)
+      if (e.bodies && !(e.refuses_overconstrained && d.overconstrains))
         for (const std::string law : {"none", "factor", "coulomb"}) out.push_back({"bodies", e.name, d.name, law});
     }
   }
@@ -331,6 +332,18 @@ TEST_P(Conformance, SettlesBalancesAndHasExactDerivatives) {
       EXPECT_NEAR(run.out.load(die, s.step)(1), 2 * fy, 1e-9 * scale) << die << " at step " << s.step;
     }
   }
+  // An enforcement that measures its Kuhn-Tucker and friction conditions
+  // meets them at every step: penetration over the element size, |N r|
+  // and the friction law (force within the bound, at it and opposing the
+  // slip where slipping; slip rate where sticking, over the speed scale).
+  const ContactInfo info = run.contact->info();
+  const std::map<std::string, double> kkt_tolerance{
+      {"kkt_primal", 1e-9}, {"kkt_complementarity", 1e-8}, {"kkt_friction", 1e-8}, {"kkt_stick_slip", 1e-8}};
+  for (std::size_t k = 0; k < info.column_names.size(); ++k) {
+    const auto tol = kkt_tolerance.find(info.column_names[k]);
+    if (tol == kkt_tolerance.end() || c.enforcement == "auglag") continue;  // auglag: its own tolerance, an augmentation limit
+    for (const auto& s : steps) EXPECT_LE(s.contact_report[k], tol->second) << tol->first << " at step " << s.step;
+  }
   if (c.scene == "multiplier") {
     // The floor nodes' pressure is the exact stress (2 / sqrt 3) K.
     const double exact = 2.0 / std::sqrt(3.0) * 100.0;
@@ -382,6 +395,23 @@ TEST_P(Conformance, SettlesBalancesAndHasExactDerivatives) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryCombination, Conformance, testing::ValuesIn(combinations()), label);
+
+// An enforcement whose rows' forces are unknowns refuses a discretization
+// that over-constrains between bodies, naming the key.
+TEST(Conformance, OverconstrainedRowsAreRefusedByName) {
+  for (const auto& e : formulations()) {
+    if (!e.refuses_overconstrained) continue;
+    for (const auto& d : discretizations()) {
+      if (!d.overconstrains) continue;
+      try {
+        ContactRun run(kTwoBlocks, e.name, d.name);
+        ADD_FAILURE() << e.name << "+" << d.name << " ran";
+      } catch (const InputError& err) {
+        EXPECT_NE(std::string(err.what()).find("contact.discretization"), std::string::npos) << err.what();
+      }
+    }
+  }
+}
 
 // Frictionless, the enforcements meet the same Kuhn-Tucker conditions:
 // direct, auglag and ipopt agree, and the penalty converges to them at
@@ -650,3 +680,72 @@ TEST(Conformance, ForcesAtTheLastPassVelocitiesAreItsBits) {
 }
 
 }  // namespace
+
+// The semi-smooth Newton enforcement's system: its generalized Jacobian
+// (the kernel's tangent, the rows' weights and the complementarity
+// functions' derivatives) is the whole residual's derivative, at points
+// on every branch (rows pressing and open, sticking and slipping either
+// way), against dies and between bodies, node to segment and mortar.
+TEST(Conformance, SsnJacobianIsTheResidualsDerivative) {
+  for (const std::string disc : {"node_to_segment", "mortar"})
+    for (const std::string scene : {"dies", "bodies"})
+      for (const std::string law : {"factor", "coulomb"}) {
+        SCOPED_TRACE(scene + " " + disc + " " + law);
+        const Combination c{scene, "ssn", disc, law};
+        ContactRun run(scene == "dies" ? die_block(friction_table(law)) : scene_text(c), "ssn", disc);
+        ASSERT_TRUE(run.outcome.finished) << run.outcome.reason;
+        NextStep next(run);
+        auto* ssn = dynamic_cast<SsnStepSolver*>(run.contact->solver());
+        ASSERT_NE(ssn, nullptr);
+        const StepRecord& last = run.out.steps.back();
+        const Index n = next.problem->dofs().num_free();
+        Vec F;
+        Vec x = Vec::Zero(n);
+        ssn->system(next.view, *next.problem, x, F);  // the rows in the solve
+        const std::size_t m = ssn->rows_in_solve();
+        ASSERT_GT(m, 1u);
+        x.resize(n + 2 * static_cast<Index>(m));
+        std::vector<Vec2> v = last.v;
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] += 0.03 * Vec2(std::sin(1.0 + i), std::cos(2.0 * i));
+        x.head(n) = next.problem->dofs().reduce(v);
+        // Forces of the size the rows carry, on every branch.
+        for (std::size_t j = 0; j < m; ++j) {
+          x[n + 2 * j] = (j % 3 == 2 ? -1.0 : 1.0) * (20.0 + 7.0 * j);
+          x[n + 2 * j + 1] = (j % 2 ? 1.0 : -1.0) * (j % 4 < 2 ? 0.5 : 15.0);
+        }
+        const Mat J = Mat(ssn->system(next.view, *next.problem, x, F));
+        const double scale = J.cwiseAbs().maxCoeff(), h = 1e-7;
+        for (Index k = 0; k < x.size(); ++k) {
+          Vec xp = x, xm = x, Fp, Fm;
+          xp(k) += h, xm(k) -= h;
+          ssn->system(next.view, *next.problem, xp, Fp);
+          ssn->system(next.view, *next.problem, xm, Fm);
+          const Vec fd = (Fp - Fm) / (2 * h);
+          for (Index i = 0; i < x.size(); ++i) EXPECT_NEAR(J(i, k), fd(i), 1e-5 * scale) << "J(" << i << ", " << k << ")";
+        }
+      }
+}
+
+// The friction law's treatment is each enforcement's to accept: the exact
+// law is refused by those that treat friction by the arctan law, and the
+// arctan law by ssn, each with one line naming the key.
+TEST(Conformance, FrictionTreatmentAnEnforcementCannotDoIsRefusedByName) {
+  const std::string exact = "[dies.top.friction]\nlaw = \"factor\"\nm = 0.3\nregularization = \"exact\"\n";
+  const std::string arctan = "[dies.top.friction]\nlaw = \"coulomb\"\nmu = 0.2\nregularization = \"arctan\"\n";
+  for (const auto& e : formulations()) {
+    if (!e.dies) continue;
+    for (const std::string& table : {exact, arctan}) {
+      bool refused = false;
+      try {
+        ContactRun run(die_block(table), e.name, "");
+      } catch (const InputError& err) {
+        refused = true;
+        const std::string what = err.what();
+        EXPECT_NE(what.find("dies.top.friction.regularization"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      }
+      // ssn treats friction exactly only; the others by the arctan law.
+      EXPECT_EQ(refused, (table == exact) != (e.name == "ssn")) << e.name << ": " << table;
+    }
+  }
+}

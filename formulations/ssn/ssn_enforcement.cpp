@@ -1,0 +1,143 @@
+#include "ssn/ssn_enforcement.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "contact/friction_treatment.hpp"
+
+namespace rpfem {
+
+namespace {
+
+SsnSettings read_settings(const Scene& scene, CaseSection& s) {
+  SsnSettings out;
+  out.newton = scene.solver.newton;
+  out.lu = scene.solver.lu;
+  out.c_normal = s.real("c_normal", 1.0, Range::positive(), "times sigma_ref w / v_ref: the normal function's c_N");
+  out.c_tangential = s.real("c_tangential", 0.1, Range::positive(), "times sigma_ref w / v_ref: the friction function's c_T");
+  return out;
+}
+
+}  // namespace
+
+SsnEnforcement::SsnEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
+    : scene_(scene), disc_(disc), solver_(read_settings(scene, settings)) {
+  require_friction_treatment(scene, name(), {false, true, true});
+  if (disc.overconstrains())
+    throw InputError(scene.file + ": contact.discretization = '" + disc.name() + "': enforcement 'ssn' solves each row's forces as "
+                     "unknowns and needs linearly independent rows; between bodies this discretization holds each contact "
+                     "from both sides; expected node_to_segment or mortar");
+  speed_scale_ = scene.largest_speed();
+}
+
+void SsnEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>& rows) {
+  rows_ = &rows;
+  state_.assign(rows.size(), {});
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto it = latest_.find({rows[i].iface, rows[i].key});
+    if (it != latest_.end()) state_[i] = it->second;
+  }
+  // c_j (ssn_enforcement.hpp); a row of no area (on the axis) takes a
+  // hundredth of its interface's mean.
+  const auto& ifaces = disc_.interfaces();
+  std::vector<double> mean(ifaces.size(), 0.0);
+  std::vector<int> count(ifaces.size(), 0);
+  for (const ContactRow& r : rows) mean[r.iface] += r.weight, ++count[r.iface];
+  for (std::size_t f = 0; f < ifaces.size(); ++f) mean[f] = count[f] ? mean[f] / count[f] : 0.0;
+  c_.resize(2 * rows.size());
+  const SsnSettings& s = solver_.settings();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double w = std::max(rows[i].weight, 1e-2 * mean[rows[i].iface]);
+    const double c = ifaces[rows[i].iface].sigma_ref * w / speed_scale_;
+    c_[2 * i] = s.c_normal * c, c_[2 * i + 1] = s.c_tangential * c;
+  }
+  solver_.set_rows(&rows, &c_, &state_, [this](const StepView& sv, const std::vector<char>& active,
+                                          std::vector<RowFriction>& out) { frictions(sv, active, out); });
+}
+
+void SsnEnforcement::frictions(const StepView& v, const std::vector<char>& active, std::vector<RowFriction>& out) const {
+  std::vector<RowArea> area;
+  disc_.areas(v, *rows_, active, area);
+  const auto& ifaces = disc_.interfaces();
+  out.assign(rows_->size(), {});
+  for (std::size_t i = 0; i < rows_->size(); ++i) {
+    const FrictionLaw& law = ifaces[(*rows_)[i].iface].friction;
+    RowFriction& f = out[i];
+    if (law.kind == FrictionLaw::Kind::Factor) f.kind = RowFriction::Kind::Tresca, f.bound = law.m * area[i].kw;
+    else if (law.kind == FrictionLaw::Kind::Coulomb) f.kind = RowFriction::Kind::Coulomb, f.mu = law.mu, f.cap = area[i].kw;
+  }
+}
+
+StepCheck SsnEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>&) {
+  StepCheck out;
+  const auto& rows = *rows_;
+  const auto& ifaces = disc_.interfaces();
+  results_.assign(rows.size(), {});
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const SsnRowState& s = state_[i];
+    RowResult& r = results_[i];
+    r.in_contact = s.active;
+    r.normal = s.lambda_n;
+    r.friction = s.lambda_t;
+    r.slip = slip_rate(rows[i].kin, vel);
+    if (s.active && ifaces[rows[i].iface].friction.kind != FrictionLaw::Kind::None) r.stick = s.stick ? 1 : -1;
+    const auto key = std::make_pair(rows[i].iface, rows[i].key);
+    const auto it = latest_.find(key);
+    const bool was = it != latest_.end() && it->second.active;
+    if (s.active != was)
+      out.events.push_back(std::string(s.active ? "touch" : "release") + " node " + std::to_string(rows[i].kin.nodes[0]) +
+                           " on " + ifaces[rows[i].iface].name);
+    latest_[key] = s;
+  }
+  measure(v);
+  return out;
+}
+
+void SsnEnforcement::measure(const StepView& v) {
+  const auto& rows = *rows_;
+  primal_ = complementarity_ = friction_ = stick_slip_ = 0;
+  stick_ = slip_ = 0;
+  double total = 0;
+  for (const SsnRowState& s : state_) total += std::max(s.lambda_n, 0.0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const SsnRowState& s = state_[i];
+    if (rows[i].free) continue;
+    const double gap = s.end_gap_rate * v.dt;
+    primal_ = std::max(primal_, std::max(0.0, -gap) / rows[i].h);
+    if (total > 0) complementarity_ = std::max(complementarity_, std::abs(s.lambda_n * s.end_gap_rate) / (total * speed_scale_));
+    if (!s.active || results_[i].stick == 0) continue;
+    const double g = std::max(s.bound, 1e-300);
+    friction_ = std::max(friction_, std::max(0.0, std::abs(s.lambda_t) - s.bound) / g);
+    if (s.stick) {
+      ++stick_;
+      stick_slip_ = std::max(stick_slip_, std::abs(s.slip_rate) / speed_scale_);
+    } else {
+      ++slip_;
+      const double sign = s.slip_rate > 0 ? 1.0 : s.slip_rate < 0 ? -1.0 : 0.0;
+      // A slipping row at zero slip rate (the neutral point reached) meets
+      // the law with either sign.
+      if (sign != 0) friction_ = std::max(friction_, std::abs(s.lambda_t + s.bound * sign) / g);
+    }
+  }
+}
+
+void SsnEnforcement::columns(std::vector<NamedValue>& out) const {
+  const SsnSolveStats& s = solver_.stats();
+  out.push_back({"ssn_iterations", double(s.iterations)});
+  out.push_back({"ssn_set_changes", double(s.set_changes)});
+  out.push_back({"stick_rows", double(stick_)});
+  out.push_back({"slip_rows", double(slip_)});
+  out.push_back({"kkt_primal", primal_});
+  out.push_back({"kkt_complementarity", complementarity_});
+  out.push_back({"kkt_friction", friction_});
+  out.push_back({"kkt_stick_slip", stick_slip_});
+}
+
+void SsnEnforcement::derived(std::vector<NamedValue>& out) const {
+  const SsnSettings& s = solver_.settings();
+  out.push_back({"ssn.c_normal", s.c_normal});
+  out.push_back({"ssn.c_tangential", s.c_tangential});
+  out.push_back({"ssn.speed_scale_mm_s", speed_scale_});
+}
+
+}  // namespace rpfem

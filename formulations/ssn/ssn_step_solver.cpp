@@ -1,0 +1,361 @@
+#include "ssn/ssn_step_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/timing.hpp"
+#include "model/step_problem.hpp"
+
+namespace rpfem {
+
+namespace {
+
+// The hash of a sparse matrix's pattern (FNV-1a over its index arrays).
+std::uint64_t pattern_hash(const SpMat& A) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](std::uint64_t x) { h = (h ^ x) * 1099511628211ull; };
+  mix(static_cast<std::uint64_t>(A.rows()));
+  for (Eigen::Index c = 0; c <= A.outerSize(); ++c) mix(static_cast<std::uint64_t>(A.outerIndexPtr()[c]));
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k) mix(static_cast<std::uint64_t>(A.innerIndexPtr()[k]));
+  return h;
+}
+
+// Gap and slip rates whose weights' Gram determinant is below this
+// fraction of |a_N|^2 |a_T|^2 move along one direction.
+constexpr double kParallel = 1e-12;
+// A solve whose correction is below kRoundOffCorrection of |u| and whose
+// |F| is within kRoundOffFactor of its tolerance is at round-off
+// (solver/newton.cpp's constants).
+constexpr double kRoundOffCorrection = 1e-12, kRoundOffFactor = 100;
+// A merit's change below this fraction of its value is round-off.
+constexpr double kRoundOffMerit = 1e-12;
+
+// A row's set: 0 inactive, 1 and 2 slipping either way, 3 sticking.
+char set_of(const RowNcp& n) { return n.active ? (n.stick ? 3 : n.sign > 0 ? 1 : 2) : 0; }
+// A row whose set changed this many times in a solve is held on its
+// branch until the Newton iteration converges on the sets held.
+// Counted in iterations where at most kFewChanges rows (or a tenth of
+// them) changed.
+constexpr int kHoldAfter = 3;
+constexpr std::size_t kFewChanges = 3;
+// A grazing row's friction force may exceed its bound by this fraction
+// (round-off of the solve).
+constexpr double kGrazingTolerance = 1e-9;
+
+}  // namespace
+
+SsnStepSolver::SsnStepSolver(SsnSettings s) : s_(s), lu_(LinearSolverChoice::Lu, CholeskyMode::Supernodal, s.lu) {}
+
+void SsnStepSolver::reduce_rows(const StepView& v, const StepProblem& problem) {
+  // r = gamma_N + g_from / dt and gamma_T with v_a = T_a u_a + p_a.
+  const DofMap& dofs = problem.dofs();
+  const double inv_dt = v.dt > 0 ? 1.0 / v.dt : 0.0;
+  red_.clear();
+  for (std::size_t j = 0; j < rows_->size(); ++j) {
+    const ContactRow& row = (*rows_)[j];
+    if (row.free) continue;
+    const PairKinematics& k = row.kin;
+    const Vec2 t(-k.n(1), k.n(0));
+    Reduced r;
+    r.row = j;
+    r.cn = (*c_)[2 * j], r.ct = (*c_)[2 * j + 1];
+    r.r0 = -k.offset.dot(k.n) + k.gap_from * inv_dt;
+    r.t0 = -k.offset.dot(t);
+    for (int a = 0; a < k.k; ++a) {
+      const NodeFrame& fr = dofs.frame(k.nodes[a]);
+      r.r0 += k.c[a] * k.n.dot(fr.p);
+      r.t0 += k.c[a] * t.dot(fr.p);
+      for (int q = 0; q < fr.nfree; ++q) {
+        r.an.emplace_back(fr.dof[q], k.c[a] * k.n.dot(fr.T.col(q)));
+        r.at.emplace_back(fr.dof[q], k.c[a] * t.dot(fr.T.col(q)));
+      }
+    }
+    if (r.an.empty()) continue;  // nothing free to move: the kernel's constraints decide
+    double nn = 0, tt = 0, nt = 0;
+    for (std::size_t q = 0; q < r.an.size(); ++q)
+      nn += r.an[q].second * r.an[q].second, tt += r.at[q].second * r.at[q].second, nt += r.an[q].second * r.at[q].second;
+    // (Or the slip rate is fixed by the kernel's constraints: both sides
+    // on a symmetry plane.)
+    r.one_direction = nn * tt - nt * nt <= kParallel * nn * tt || tt <= kParallel * nn;
+    red_.push_back(std::move(r));
+  }
+  // Nodes held by two die rows (k = 1: the node alone).
+  std::map<Index, int> die_rows;
+  for (const Reduced& r : red_)
+    if ((*rows_)[r.row].kin.k == 1) ++die_rows[(*rows_)[r.row].kin.nodes[0]];
+  for (Reduced& r : red_)
+    r.shared_node = (*rows_)[r.row].kin.k == 1 && die_rows[(*rows_)[r.row].kin.nodes[0]] > 1;
+}
+
+void SsnStepSolver::forces(StepProblem& problem, Iterate& it) {
+  it.energy = problem.residual_energy(it.u, it.R, it.scale);
+}
+
+double SsnStepSolver::lagrangian(const Iterate& it, const std::vector<double>& ln, const std::vector<double>& lt) const {
+  double L = it.energy;
+  for (std::size_t j = 0; j < red_.size(); ++j) L -= ln[j] * it.r[j] + lt[j] * it.g[j];
+  return L;
+}
+
+void SsnStepSolver::rows(const StepView& v, Iterate& it, const Iterate* branch, bool hold) {
+  const Index n = it.u.size();
+  const std::size_t m = red_.size();
+  it.F.resize(n + 2 * static_cast<Index>(m));
+  it.F.head(n) = it.R;
+  std::vector<double>& r = it.r;
+  std::vector<double>& g = it.g;
+  r.resize(m), g.resize(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    const Reduced& rr = red_[j];
+    r[j] = rr.r0, g[j] = rr.t0;
+    for (const auto& [d, w] : rr.an) r[j] += w * it.u[d];
+    for (const auto& [d, w] : rr.at) g[j] += w * it.u[d];
+  }
+  if (!branch) {
+    // The active set first: the friction bounds depend on it (contact
+    // areas); on a kept branch they are the branch's.
+    std::fill(active_rows_.begin(), active_rows_.end(), 0);
+    for (std::size_t j = 0; j < m; ++j)
+      active_rows_[red_[j].row] = hold && held_[j] ? held_[j]->active : it.ln[j] - red_[j].cn * r[j] > 0;
+    frictions_(v, active_rows_, friction_);
+  }
+  it.ncp.resize(m);
+  it.sets.resize(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    const Reduced& rr = red_[j];
+    for (const auto& [d, w] : rr.an) it.F[d] -= it.ln[j] * w;
+    for (const auto& [d, w] : rr.at) it.F[d] -= it.lt[j] * w;
+    RowFriction f = rr.one_direction ? RowFriction{} : friction_[rr.row];
+    f.may_stick = !rr.shared_node;
+    const RowNcp* b = branch ? &branch->ncp[j] : hold && held_[j] ? &*held_[j] : nullptr;
+    it.ncp[j] = row_ncp(it.ln[j], it.lt[j], r[j], g[j], rr.cn, rr.ct, f, b);
+    it.F[n + 2 * j] = it.ncp[j].cn;
+    it.F[n + 2 * j + 1] = it.ncp[j].ct;
+    it.sets[j] = set_of(it.ncp[j]);
+  }
+  it.norm = it.F.norm();
+}
+
+SpMat SsnStepSolver::jacobian(const SpMat& K, const Iterate& it) const {
+  const Index n = K.rows();
+  const std::size_t m = red_.size();
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(K.nonZeros() + 8 * m * 8);
+  for (Eigen::Index c = 0; c < K.outerSize(); ++c)
+    for (SpMat::InnerIterator e(K, c); e; ++e) trip.emplace_back(e.row(), e.col(), e.value());
+  // Every row's entries are in the pattern whatever its set (zeros kept),
+  // so the pattern, and the LU's analysis, hold over the solve.
+  for (std::size_t j = 0; j < m; ++j) {
+    const Reduced& rr = red_[j];
+    const RowNcp& q = it.ncp[j];
+    const int N = static_cast<int>(n + 2 * j), T = N + 1;
+    for (const auto& [d, w] : rr.an) {
+      trip.emplace_back(d, N, -w);
+      trip.emplace_back(N, d, q.dcn_dr * w);
+      trip.emplace_back(T, d, q.dct_dr * w);
+    }
+    for (const auto& [d, w] : rr.at) {
+      trip.emplace_back(d, T, -w);
+      trip.emplace_back(T, d, q.dct_ds * w);
+    }
+    trip.emplace_back(N, N, q.dcn_dln);
+    trip.emplace_back(T, N, q.dct_dln);
+    trip.emplace_back(T, T, q.dct_dlt);
+  }
+  const Index size = n + 2 * static_cast<Index>(m);
+  SpMat J(size, size);
+  J.setFromTriplets(trip.begin(), trip.end());
+  return J;
+}
+
+bool SsnStepSolver::newton_step(const SpMat& K, const Iterate& it, Vec& dx) {
+  const SpMat J = jacobian(K, it);
+  const std::uint64_t h = pattern_hash(J);
+  if (h != pattern_hash_) pattern_hash_ = h, ++pattern_version_;
+  {
+    ScopedSeconds timing(stats_.factor_seconds);
+    if (!lu_.factorize(J, false, pattern_version_)) return false;
+    dx = lu_.solve(-it.F);
+  }
+  return dx.allFinite();
+}
+
+SpMat SsnStepSolver::system(const StepView& v, StepProblem& problem, const Vec& x, Vec& F) {
+  reduce_rows(v, problem);
+  active_rows_.assign(rows_->size(), 0);
+  friction_.assign(rows_->size(), {});
+  held_.assign(red_.size(), std::nullopt);
+  const Index n = problem.dofs().num_free();
+  Iterate it;
+  it.u = x.head(n);
+  for (std::size_t j = 0; j < red_.size(); ++j) it.ln.push_back(x[n + 2 * j]), it.lt.push_back(x[n + 2 * j + 1]);
+  forces(problem, it);
+  rows(v, it, nullptr);
+  F = it.F;
+  return jacobian(problem.tangent(it.u, true), it);
+}
+
+bool SsnStepSolver::grazing_holds(const Iterate& it, std::size_t j) const {
+  // The friction force within the bound, and not along the slip.
+  const RowNcp& q = it.ncp[j];
+  const double tol = kGrazingTolerance * std::max(q.g, 1e-300);
+  return std::abs(it.lt[j]) <= q.g + tol && it.lt[j] * it.g[j] <= tol * std::abs(it.g[j]);
+}
+
+SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& u) {
+  SolveOutcome out;
+  stats_ = {};
+  reduce_rows(v, problem);
+  const std::size_t m = red_.size();
+  stats_.rows = static_cast<int>(m);
+  active_rows_.assign(rows_->size(), 0);
+  friction_.assign(rows_->size(), {});
+  // Rows left out of the solve carry nothing.
+  std::vector<char> in_solve(rows_->size(), 0);
+  for (const Reduced& r : red_) in_solve[r.row] = 1;
+  for (std::size_t j = 0; j < rows_->size(); ++j)
+    if (!in_solve[j]) (*state_)[j] = {};
+  Iterate x;
+  x.u = u;
+  x.ln.resize(m), x.lt.resize(m);
+  for (std::size_t j = 0; j < m; ++j) x.ln[j] = (*state_)[red_[j].row].lambda_n, x.lt[j] = (*state_)[red_[j].row].lambda_t;
+  const NewtonSettings& ns = s_.newton;
+  bool secant = ns.direct_iterations > 0;
+  forces(problem, x);
+  held_.assign(m, std::nullopt);
+  flips_.assign(m, 0);
+  normal_flips_.assign(m, 0);
+  rows(v, x, nullptr, true);
+  double last_full = -1;  // |du| of the last full consistent step (-1: none)
+  for (int iter = 1;; ++iter) {
+    const SpMat& K = problem.tangent(x.u, !secant);
+    if (iter > ns.max_iterations) {
+      out.reason = "ssn: no convergence in " + std::to_string(ns.max_iterations) + " iterations (|F| / F_scale = " +
+                   std::to_string(x.norm / x.scale) + ")";
+      break;
+    }
+    Vec dx;
+    if (!newton_step(K, x, dx)) {
+      out.reason = "ssn: singular or non-finite Newton system";
+      break;
+    }
+    const Index n = x.u.size();
+    // Backtracking on the Lagrangian of the iterate's sets (the header).
+    std::vector<double> ln_plus = x.ln, lt_plus = x.lt;
+    for (std::size_t j = 0; j < m; ++j) ln_plus[j] += dx[n + 2 * j], lt_plus[j] += dx[n + 2 * j + 1];
+    const double L0 = lagrangian(x, ln_plus, lt_plus);
+    Vec Fu = x.F.head(n);
+    for (std::size_t j = 0; j < m; ++j) {
+      for (const auto& [d, w] : red_[j].an) Fu[d] += (x.ln[j] - ln_plus[j]) * w;
+      for (const auto& [d, w] : red_[j].at) Fu[d] += (x.lt[j] - lt_plus[j]) * w;
+    }
+    const double slope = Fu.dot(dx.head(n));
+    Iterate trial;
+    double s = 1;
+    for (int cut = 0;; ++cut) {
+      trial.u = x.u + s * dx.head(n);
+      trial.ln = x.ln, trial.lt = x.lt;
+      for (std::size_t j = 0; j < m; ++j) trial.ln[j] += s * dx[n + 2 * j], trial.lt[j] += s * dx[n + 2 * j + 1];
+      forces(problem, trial);
+      rows(v, trial, &x);
+      const double L = lagrangian(trial, ln_plus, lt_plus);
+      bool ok = std::isfinite(L) && std::isfinite(trial.norm);
+      if (ok && slope < 0) {
+        // Within round-off of L(u) a drop of |F| is taken instead (as the
+        // kernel's Newton does, solver/newton.hpp).
+        ok = L <= L0 + ns.armijo * s * slope ||
+             (L - L0 <= kRoundOffMerit * std::abs(L0) && trial.norm <= (1 - ns.armijo * s) * x.norm);
+      } else if (ok) {
+        ok = trial.norm <= (1 - ns.armijo * s) * x.norm;
+      }
+      if (ok) break;
+      if (cut == ns.max_halvings) break;  // the shortest step is taken: the secant iteration follows
+      s *= 0.5, ++stats_.halvings;
+    }
+    if (!std::isfinite(trial.norm)) {
+      out.reason = "ssn: non-finite residual";
+      break;
+    }
+    rows(v, trial, nullptr, true);  // the sets at the new iterate
+    const double du = s * dx.head(n).norm();
+    int changes = 0;
+    for (std::size_t j = 0; j < m; ++j) changes += trial.sets[j] != x.sets[j];
+    // Cycling is a few rows changing by turns; many rows changing at once
+    // is the sets being found (a cold start).
+    const bool few = static_cast<std::size_t>(changes) <= std::max(kFewChanges, m / 10);
+    for (std::size_t j = 0; j < m && few; ++j) {
+      if (trial.sets[j] == x.sets[j]) continue;
+      if (trial.ncp[j].active != x.ncp[j].active) ++normal_flips_[j];
+      if (++flips_[j] >= kHoldAfter && !held_[j]) {
+        // A row that lands and lifts off by turns under the friction
+        // factor's jump is held grazing (ncp.hpp), any other on its branch.
+        held_[j] = trial.ncp[j];
+        held_[j]->grazing = normal_flips_[j] >= kHoldAfter - 1 && friction_[red_[j].row].kind == RowFriction::Kind::Tresca;
+        if (held_[j]->grazing) held_[j]->active = true;
+        ++stats_.holds;
+      }
+    }
+    stats_.set_changes += changes;
+    // The velocity error: the last correction, times the contraction of
+    // two successive full consistent steps where it is below 1/2.
+    double error = du;
+    const bool full = s == 1 && !secant;
+    if (full && last_full > 0 && du < 0.5 * last_full) error = du * du / last_full;
+    last_full = full ? du : -1;
+    secant = s < 1 && ns.secant_after_cut;
+    x = std::move(trial);
+    stats_.iterations = iter;
+    const double unorm = std::max(x.u.norm(), 1e-300);
+    // At round-off: the correction below kRoundOffCorrection of |u| with
+    // |F| within kRoundOffFactor of the tolerance, as the kernel's Newton
+    // accepts (solver/newton.hpp; a virtual rigid body's large forces set
+    // the floor of Test II's F near 1e-6).
+    const bool round_off = du <= kRoundOffCorrection * unorm && x.norm <= kRoundOffFactor * ns.tol_force * x.scale;
+    if (changes == 0 && ((x.norm <= ns.tol_force * x.scale && error <= ns.tol_velocity * unorm) || round_off)) {
+      // Converged on the sets held: done if they are the solution's, else
+      // the rows whose own branch differs are released.
+      Iterate free = x;
+      rows(v, free, nullptr, false);
+      int released = 0;
+      for (std::size_t j = 0; j < m; ++j) {
+        if (!held_[j]) continue;
+        const bool holds = held_[j]->grazing ? grazing_holds(x, j) : free.sets[j] == set_of(*held_[j]);
+        if (holds) continue;
+        ++released;
+        if (held_[j]->grazing && std::abs(x.lt[j]) > x.ncp[j].g) {
+          // Grazing asks for more friction than the bound: the row presses
+          // and slips at the bound, against the force equilibrium asked for.
+          held_[j]->grazing = held_[j]->stick = false;
+          held_[j]->sign = x.lt[j] > 0 ? 1.0 : -1.0;
+          continue;
+        }
+        held_[j].reset(), flips_[j] = normal_flips_[j] = 0;
+      }
+      if (released == 0) {
+        out.converged = true;
+        break;
+      }
+      x = std::move(free);
+      last_full = -1;
+    }
+  }
+  out.iterations = stats_.iterations;
+  out.residual = x.scale > 0 ? x.norm / x.scale : x.norm;
+  if (!out.converged) return out;
+  u = x.u;
+  for (std::size_t j = 0; j < m; ++j) {
+    SsnRowState& st = (*state_)[red_[j].row];
+    const RowNcp& q = x.ncp[j];
+    st.lambda_n = x.ln[j], st.lambda_t = x.lt[j];
+    st.active = q.active, st.stick = q.stick, st.bound = q.g, st.grazing = q.grazing;
+    stats_.grazing += q.grazing;
+    double r = red_[j].r0, g = red_[j].t0;
+    for (const auto& [d, w] : red_[j].an) r += w * u[d];
+    for (const auto& [d, w] : red_[j].at) g += w * u[d];
+    st.end_gap_rate = r, st.slip_rate = g;
+  }
+  return out;
+}
+
+}  // namespace rpfem

@@ -1,0 +1,169 @@
+// The ssn enforcement's step solver (a StepSolver, as MFEM separates its
+// ConstrainedSolver subclasses): the step's velocities u (reduced unknowns
+// of the kernel's DofMap) and each row's normal and friction forces
+// lambda_N, lambda_T solved together by a semi-smooth Newton method
+// (primal-dual active set; Hueber, Stadler and Wohlmuth 2008; Popp et al.
+// 2010) on
+//   R(u) - sum_j (lambda_N,j a_N,j + lambda_T,j a_T,j) = 0   (equilibrium)
+//   C_N,j = 0,  C_T,j = 0                                    (ncp.hpp)
+// a_N,j and a_T,j the rows' gap and slip rates as weights on u (r_j =
+// a_N,j . u + r0_j, gamma_T,j = a_T,j . u + t0_j). Each iteration solves
+// the saddle-point system with the generalized derivative of the C's
+//   [ K        -A_N^T    -A_T^T  ] [du ]     [residual]
+//   [ C_N,u    C_N,N     0       ] [dlN] = - [C_N     ]
+//   [ C_T,u    C_T,N     C_T,T   ] [dlT]     [C_T     ]
+// by sparse LU (KLU or UMFPACK; its pattern fixed within a solve, so the
+// analysis is reused), so the active, inactive, stick and slip sets follow
+// from every iterate: no outer loop on the contact state or on the
+// friction bounds. K is the kernel's tangent: the secant one in the first
+// iteration and after an iteration whose line search cut the step, as the
+// kernel's Newton does (solver/newton.hpp).
+// Globalization: a backtracking line search (Armijo) on the Lagrangian of
+// the iterate's sets with the multipliers the Newton step gives,
+//   L(u) = Pi(u) - sum_j (lambda+_N,j r_j(u) + lambda+_T,j gamma_T,j(u)),
+// lambda+ = lambda + dlambda (Nocedal and Wright 2006, sec. 18.3): the
+// velocity rows of the system give dL/du . du = -du^T K du, a descent
+// direction wherever K is positive definite (the secant K always), and the
+// rows' own functions are linear on the iterate's branches, so a step of
+// length s leaves 1 - s of them. The sets are then updated at the new
+// iterate. The residual norm |F| as the merit stalled: the secant step is
+// no descent direction of it, and on the ring at m = 1 the search cut
+// every step to 2^-12.
+// Converged when |F| <= tol_force F_scale (F_scale the elements' force
+// scale, as the kernel's), the sets did not change in the last iteration,
+// and the velocity error (the last correction, times the contraction of
+// two successive full steps when below 1/2; Deuflhard 2004, sec. 2.1) is
+// at most tol_velocity |u|.
+// Cycling: a row whose set changes kHoldAfter times in a solve (a node
+// landing at the step's end with no force, a row at a neutral point) is
+// held on its last branch; once the iteration converges on the sets held,
+// a held row whose own set differs is released and the iteration goes on,
+// so the solution met is the true one. A row that lands and lifts off by
+// turns under the friction factor is held grazing instead (ncp.hpp), and
+// kept there if its friction force then lies within its bound and opposes
+// its slip.
+// c_j (N s/mm) is the enforcement's (ssn_enforcement.hpp).
+#pragma once
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "contact/contact_row.hpp"
+#include "la/linear_solver.hpp"
+#include "model/contact_formulation.hpp"
+#include "solver/newton.hpp"
+#include "ssn/ncp.hpp"
+
+namespace rpfem {
+
+struct SsnSettings {
+  NewtonSettings newton;   // tolerances, iterations, line search: the scene's solver.*
+  double c_normal = 1, c_tangential = 1;  // formulations.ssn.* (ssn_enforcement.hpp)
+  LuMode lu = LuMode::Auto;
+};
+
+// The row state the enforcement keeps between solves and reads after one.
+struct SsnRowState {
+  double lambda_n = 0, lambda_t = 0;  // N
+  double end_gap_rate = 0, slip_rate = 0;  // mm/s, r and gamma_T at the solution
+  double bound = 0;  // N, the friction bound g
+  bool active = false, stick = false;
+  bool grazing = false;  // in contact at zero force (ncp.hpp)
+};
+
+// Solver statistics of the last solve.
+struct SsnSolveStats {
+  int iterations = 0, halvings = 0, set_changes = 0;
+  int holds = 0;  // rows held on their branch after cycling
+  int grazing = 0;  // rows ending grazing
+  int rows = 0;  // rows in the solve
+  double factor_seconds = 0;
+};
+
+class SsnStepSolver final : public StepSolver {
+ public:
+  // The frictions of the rows given which are active (the factor law's
+  // k w and Coulomb's cap depend on the contact area).
+  using Frictions = std::function<void(const StepView&, const std::vector<char>& active, std::vector<RowFriction>& out)>;
+  explicit SsnStepSolver(SsnSettings s);
+  // The rows of the next solves, their parameters c_N, c_T (N s/mm; row
+  // j's at 2 j and 2 j + 1) and states
+  // (warm start in, solution out); all valid until the next call.
+  void set_rows(const std::vector<ContactRow>* rows, const std::vector<double>* c, std::vector<SsnRowState>* state,
+                Frictions frictions) {
+    rows_ = rows, c_ = c, state_ = state, frictions_ = std::move(frictions);
+  }
+  SolveOutcome solve(const StepView& v, StepProblem& problem, Vec& u) override;
+  const SsnSolveStats& stats() const { return stats_; }
+  // The whole residual F and its generalized Jacobian (consistent K) at
+  // x = (u, lambda_N,0, lambda_T,0, ...) for the rows in the solve (those
+  // not free with an unknown to move), each on its own branch: what each
+  // Newton iteration solves with (the tests check J against F's finite
+  // differences).
+  SpMat system(const StepView& v, StepProblem& problem, const Vec& x, Vec& F);
+  // The rows in the last solve or system().
+  std::size_t rows_in_solve() const { return red_.size(); }
+  const SsnSettings& settings() const { return s_; }
+
+ private:
+  // One row in the reduced unknowns.
+  struct Reduced {
+    std::vector<std::pair<Index, double>> an, at;  // (dof, weight)
+    double r0 = 0, t0 = 0;  // mm/s
+    double cn = 0, ct = 0;  // N s/mm
+    std::size_t row = 0;    // the enforcement's row
+    // The gap and slip rates move along one direction of the unknowns (a
+    // slave node on the axis or a symmetry plane against a die that is
+    // not normal to it), or the slip rate along none (both sides on a
+    // symmetry plane): the row cannot both hold its gap and stick, and
+    // its forces act only through N n + T t along that direction. It is
+    // held frictionless, its normal force carrying that component whole,
+    // as `direct` records the reaction of such a node.
+    bool one_direction = false;
+    // Its slave node is held by another die row too (ncp.hpp, may_stick).
+    bool shared_node = false;
+  };
+  struct Iterate {
+    Vec u;
+    std::vector<double> ln, lt;
+    Vec R;           // the elements' residual
+    Vec F;           // the whole residual
+    double norm = 0, scale = 0;
+    double energy = 0;  // Pi(u)
+    std::vector<double> r, g;  // per row: r and gamma_T (mm/s)
+    std::vector<RowNcp> ncp;
+    std::vector<char> sets;  // per row: 0 inactive, 1 slip, 2 stick
+  };
+  void reduce_rows(const StepView& v, const StepProblem& problem);
+  // The elements' residual R(u) of an iterate, then the whole F with the
+  // rows' functions on their own branches or on those of `branch`.
+  void forces(StepProblem& problem, Iterate& it);
+  // The merit L at it.u with the multipliers ln, lt (it.energy: Pi(u)).
+  double lagrangian(const Iterate& it, const std::vector<double>& ln, const std::vector<double>& lt) const;
+  // Rows held on a branch (held_) keep it where `hold`.
+  void rows(const StepView& v, Iterate& it, const Iterate* branch, bool hold = false);
+  SpMat jacobian(const SpMat& K, const Iterate& it) const;
+  bool newton_step(const SpMat& K, const Iterate& it, Vec& dx);
+  // Whether row j held grazing meets the friction law's hull at it.
+  bool grazing_holds(const Iterate& it, std::size_t j) const;
+
+  SsnSettings s_;
+  const std::vector<ContactRow>* rows_ = nullptr;
+  const std::vector<double>* c_ = nullptr;
+  std::vector<SsnRowState>* state_ = nullptr;
+  Frictions frictions_;
+  std::vector<Reduced> red_;
+  std::vector<RowFriction> friction_;  // per enforcement row
+  std::vector<char> active_rows_;      // per enforcement row, for frictions_
+  // Per row of the solve: its set changes, and the branch it is held on
+  // after kHoldAfter of them (ssn_step_solver.cpp).
+  std::vector<int> flips_, normal_flips_;
+  std::vector<std::optional<RowNcp>> held_;
+  LinearSolver lu_;
+  std::uint64_t pattern_hash_ = 0, pattern_version_ = 0;
+  SsnSolveStats stats_;
+};
+
+}  // namespace rpfem
