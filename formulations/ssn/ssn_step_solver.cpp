@@ -1,7 +1,10 @@
 #include "ssn/ssn_step_solver.hpp"
 
 #include <algorithm>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 
 #include "core/timing.hpp"
@@ -28,17 +31,23 @@ constexpr double kParallel = 1e-12;
 // |F| is within kRoundOffFactor of its tolerance is at round-off
 // (solver/newton.cpp's constants).
 constexpr double kRoundOffCorrection = 1e-12, kRoundOffFactor = 100;
+// The multiplier block's diagonal where the functions have none (N s/mm
+// per N: against c ~ sigma w / v of 1e3 to 1e6).
+constexpr double kRegularization = 1e-8;
 // A merit's change below this fraction of its value is round-off.
 constexpr double kRoundOffMerit = 1e-12;
 
 // A row's set: 0 inactive, 1 and 2 slipping either way, 3 sticking.
 char set_of(const RowNcp& n) { return n.active ? (n.stick ? 3 : n.sign > 0 ? 1 : 2) : 0; }
 // A row whose set changed this many times in a solve is held on its
-// branch until the Newton iteration converges on the sets held.
-// Counted in iterations where at most kFewChanges rows (or a tenth of
-// them) changed.
+// branch until the Newton iteration converges on the sets held, counted
+// in iterations where at most kFewChanges rows (or a tenth of them)
+// changed.
 constexpr int kHoldAfter = 3;
 constexpr std::size_t kFewChanges = 3;
+// A held row whose own set differs at the held solution is held on that
+// set at most this many times, then released.
+constexpr int kMaxRehold = 3;
 // A grazing row's friction force may exceed its bound by this fraction
 // (round-off of the solve).
 constexpr double kGrazingTolerance = 1e-9;
@@ -159,9 +168,13 @@ SpMat SsnStepSolver::jacobian(const SpMat& K, const Iterate& it) const {
       trip.emplace_back(d, T, -w);
       trip.emplace_back(T, d, q.dct_ds * w);
     }
-    trip.emplace_back(N, N, q.dcn_dln);
+    // A row in contact (sticking) has no diagonal in its multiplier's
+    // column; kRegularization there keeps the system solvable where rows
+    // are linearly dependent (a body row between two nodes each held on a
+    // die): the Newton matrix only, F is unchanged, so the solution is.
+    trip.emplace_back(N, N, q.dcn_dln != 0 ? q.dcn_dln : -kRegularization);
     trip.emplace_back(T, N, q.dct_dln);
-    trip.emplace_back(T, T, q.dct_dlt);
+    trip.emplace_back(T, T, q.dct_dlt != 0 ? q.dct_dlt : -kRegularization);
   }
   const Index size = n + 2 * static_cast<Index>(m);
   SpMat J(size, size);
@@ -226,6 +239,7 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
   held_.assign(m, std::nullopt);
   flips_.assign(m, 0);
   normal_flips_.assign(m, 0);
+  reholds_.assign(m, 0);
   rows(v, x, nullptr, true);
   double last_full = -1;  // |du| of the last full consistent step (-1: none)
   for (int iter = 1;; ++iter) {
@@ -304,6 +318,10 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     if (full && last_full > 0 && du < 0.5 * last_full) error = du * du / last_full;
     last_full = full ? du : -1;
     secant = s < 1 && ns.secant_after_cut;
+    if (std::getenv("SSN_DEBUG")) {
+      std::fprintf(stderr, "it %d |F|/s %.3e -> %.3e s %g du/u %.3e changes %d secant %d\n", iter, x.norm/x.scale, trial.norm/trial.scale, s, du/x.u.norm(), changes, int(secant));
+      for (std::size_t j = 0; j < m; ++j) if (trial.sets[j] != x.sets[j]) std::fprintf(stderr, "   row %zu node %ld: %d -> %d lN %.4g r %.3g lT %.4g gT %.3g g %.4g held %d\n", j, long((*rows_)[red_[j].row].kin.nodes[0]), x.sets[j], trial.sets[j], trial.ln[j], trial.r[j], trial.lt[j], trial.g[j], trial.ncp[j].g, int(bool(held_[j])));
+    }
     x = std::move(trial);
     stats_.iterations = iter;
     const double unorm = std::max(x.u.norm(), 1e-300);
@@ -330,8 +348,15 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
           held_[j]->sign = x.lt[j] > 0 ? 1.0 : -1.0;
           continue;
         }
-        held_[j].reset(), flips_[j] = normal_flips_[j] = 0;
+        // Held again on its own branch at this solution, while that
+        // converges: a row at the stick-slip boundary goes to the side the
+        // held solution asks for (an outer step of the primal-dual active
+        // set method for the few rows that cycle); released for good
+        // after kMaxRehold of them.
+        if (++reholds_[j] <= kMaxRehold) held_[j] = free.ncp[j];
+        else held_[j].reset(), flips_[j] = normal_flips_[j] = 0;
       }
+      if (std::getenv("SSN_DEBUG")) std::fprintf(stderr, "  converged on held sets, released %d\n", released);
       if (released == 0) {
         out.converged = true;
         break;

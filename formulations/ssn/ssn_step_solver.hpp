@@ -159,7 +159,7 @@ class SsnStepSolver final : public StepSolver {
   std::vector<char> active_rows_;      // per enforcement row, for frictions_
   // Per row of the solve: its set changes, and the branch it is held on
   // after kHoldAfter of them (ssn_step_solver.cpp).
-  std::vector<int> flips_, normal_flips_;
+  std::vector<int> flips_, normal_flips_, reholds_;
   std::vector<std::optional<RowNcp>> held_;
   LinearSolver lu_;
   std::uint64_t pattern_hash_ = 0, pattern_version_ = 0;
