@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 
 #include "core/timing.hpp"
@@ -318,10 +316,6 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     if (full && last_full > 0 && du < 0.5 * last_full) error = du * du / last_full;
     last_full = full ? du : -1;
     secant = s < 1 && ns.secant_after_cut;
-    if (std::getenv("SSN_DEBUG")) {
-      std::fprintf(stderr, "it %d |F|/s %.3e -> %.3e s %g du/u %.3e changes %d secant %d\n", iter, x.norm/x.scale, trial.norm/trial.scale, s, du/x.u.norm(), changes, int(secant));
-      for (std::size_t j = 0; j < m; ++j) if (trial.sets[j] != x.sets[j]) std::fprintf(stderr, "   row %zu node %ld: %d -> %d lN %.4g r %.3g lT %.4g gT %.3g g %.4g held %d\n", j, long((*rows_)[red_[j].row].kin.nodes[0]), x.sets[j], trial.sets[j], trial.ln[j], trial.r[j], trial.lt[j], trial.g[j], trial.ncp[j].g, int(bool(held_[j])));
-    }
     x = std::move(trial);
     stats_.iterations = iter;
     const double unorm = std::max(x.u.norm(), 1e-300);
@@ -356,7 +350,6 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
         if (++reholds_[j] <= kMaxRehold) held_[j] = free.ncp[j];
         else held_[j].reset(), flips_[j] = normal_flips_[j] = 0;
       }
-      if (std::getenv("SSN_DEBUG")) std::fprintf(stderr, "  converged on held sets, released %d\n", released);
       if (released == 0) {
         out.converged = true;
         break;
