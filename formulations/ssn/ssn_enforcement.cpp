@@ -9,6 +9,10 @@ namespace rpfem {
 
 namespace {
 
+// A slip rate below this fraction of the speed scale is zero (the
+// friction conditions' tolerance on a sticking row's slip).
+constexpr double kZeroSlip = 1e-8;
+
 SsnSettings read_settings(const Scene& scene, CaseSection& s) {
   SsnSettings out;
   out.newton = scene.solver.newton;
@@ -108,15 +112,24 @@ void SsnEnforcement::measure(const StepView& v) {
     if (!s.active || results_[i].stick == 0) continue;
     const double g = std::max(s.bound, 1e-300);
     friction_ = std::max(friction_, std::max(0.0, std::abs(s.lambda_t) - s.bound) / g);
+    if (s.grazing) {
+      // On the friction factor's jump: any force within the bound that
+      // does not drive the slip (ncp.hpp).
+      ++slip_;
+      if (s.lambda_t * s.slip_rate > 0) friction_ = std::max(friction_, std::abs(s.lambda_t) / g);
+      continue;
+    }
     if (s.stick) {
       ++stick_;
       stick_slip_ = std::max(stick_slip_, std::abs(s.slip_rate) / speed_scale_);
     } else {
       ++slip_;
-      const double sign = s.slip_rate > 0 ? 1.0 : s.slip_rate < 0 ? -1.0 : 0.0;
-      // A slipping row at zero slip rate (the neutral point reached) meets
-      // the law with either sign.
-      if (sign != 0) friction_ = std::max(friction_, std::abs(s.lambda_t + s.bound * sign) / g);
+      // A slipping row whose slip rate is at round-off (the neutral point
+      // reached: the solution at the kink between the sets) meets the law
+      // as a sticking row, its force at the bound in either direction.
+      if (std::abs(s.slip_rate) <= kZeroSlip * speed_scale_) continue;
+      const double sign = s.slip_rate > 0 ? 1.0 : -1.0;
+      friction_ = std::max(friction_, std::abs(s.lambda_t + s.bound * sign) / g);
     }
   }
 }

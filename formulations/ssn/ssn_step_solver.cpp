@@ -366,6 +366,12 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     SsnRowState& st = (*state_)[red_[j].row];
     const RowNcp& q = x.ncp[j];
     st.lambda_n = x.ln[j], st.lambda_t = x.lt[j];
+    // The forces on their branch's values, where those are explicit (the
+    // iteration leaves them within tol_force of the force scale, which on
+    // a lightly loaded row is a visible share of its bound): no force off
+    // contact, a slipping row's force at its bound.
+    if (!q.active) st.lambda_n = st.lambda_t = 0;
+    else if (!q.stick && !q.grazing) st.lambda_t = q.g * q.sign;
     st.active = q.active, st.stick = q.stick, st.bound = q.g, st.grazing = q.grazing;
     stats_.grazing += q.grazing;
     double r = red_[j].r0, g = red_[j].t0;
