@@ -17,6 +17,7 @@ SsnSettings read_settings(const Scene& scene, CaseSection& s) {
   SsnSettings out;
   out.newton = scene.solver.newton;
   out.lu = scene.solver.lu;
+  out.speed_scale = scene.largest_speed();
   out.c_normal = s.real("c_normal", 1.0, Range::positive(), "times sigma_ref w / v_ref: the normal function's c_N");
   out.c_tangential = s.real("c_tangential", 0.1, Range::positive(), "times sigma_ref w / v_ref: the friction function's c_T");
   return out;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 
 #include "core/timing.hpp"
@@ -32,6 +33,13 @@ constexpr double kRoundOffCorrection = 1e-12, kRoundOffFactor = 100;
 // The multiplier block's diagonal where the functions have none (N s/mm
 // per N: against c ~ sigma w / v of 1e3 to 1e6).
 constexpr double kRegularization = 1e-8;
+// A converged row in contact is within kRowGap of the element size of its
+// master at the step's end, and a sticking row slips at most kRowSlip of
+// the speed scale (the conditions the enforcement checks at 1e-9 and 1e-8).
+constexpr double kRowGap = 1e-11, kRowSlip = 1e-10;
+// A step whose residual on its own sets exceeds this many times the
+// iterate's is cut.
+constexpr double kGrowth = 10;
 // A merit's change below this fraction of its value is round-off.
 constexpr double kRoundOffMerit = 1e-12;
 
@@ -207,6 +215,17 @@ SpMat SsnStepSolver::system(const StepView& v, StepProblem& problem, const Vec& 
   return jacobian(problem.tangent(it.u, true), it);
 }
 
+bool SsnStepSolver::rows_meet(const StepView& v, const Iterate& it) const {
+  // |F| bounds the rows' functions in N, against the elements' force
+  // scale: a row of small c could keep a visible gap or slip within it.
+  for (std::size_t j = 0; j < red_.size(); ++j) {
+    const RowNcp& q = it.ncp[j];
+    if (q.active && std::abs(it.r[j]) * v.dt > kRowGap * (*rows_)[red_[j].row].h) return false;
+    if (q.active && q.stick && std::abs(it.g[j]) > kRowSlip * s_.speed_scale) return false;
+  }
+  return true;
+}
+
 bool SsnStepSolver::grazing_holds(const Iterate& it, std::size_t j) const {
   // The friction force within the bound, and not along the slip.
   const RowNcp& q = it.ncp[j];
@@ -234,6 +253,23 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
   const NewtonSettings& ns = s_.newton;
   bool secant = ns.direct_iterations > 0;
   forces(problem, x);
+  // A row with no forces of its own yet (a run's first solve, the first
+  // after a remesh) that touches at the start takes the force its nodes'
+  // elements exert along its weights, R . a / |a|^2: the contact force
+  // equilibrium asks of it if it alone held them. Started from zero, the
+  // rows of a slug in its container after a remesh changed sets by the
+  // dozen per iteration and the solve diverged.
+  for (std::size_t j = 0; j < m; ++j) {
+    const SsnRowState& st = (*state_)[red_[j].row];
+    if (st.active || st.lambda_n != 0) continue;
+    const Reduced& rr = red_[j];
+    double r = rr.r0, nn = 0, tt = 0, fn = 0, ft = 0;
+    for (const auto& [d, w] : rr.an) r += w * x.u[d], nn += w * w, fn += w * x.R[d];
+    for (const auto& [d, w] : rr.at) tt += w * w, ft += w * x.R[d];
+    if (!(r <= 0) || !(nn > 0)) continue;
+    x.ln[j] = std::max(0.0, fn / nn);
+    if (x.ln[j] > 0 && tt > 0) x.lt[j] = ft / tt;
+  }
   held_.assign(m, std::nullopt);
   flips_.assign(m, 0);
   normal_flips_.assign(m, 0);
@@ -281,6 +317,15 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
       } else if (ok) {
         ok = trial.norm <= (1 - ns.armijo * s) * x.norm;
       }
+      if (ok) {
+        // Nor may the residual on the trial's own sets grow beyond
+        // kGrowth times: the Lagrangian of one iterate's sets falls along
+        // steps that change many sets at once while |F| grows without
+        // bound (the backward extrusion after a remesh: 1e8 times).
+        Iterate own = trial;
+        rows(v, own, nullptr, true);
+        ok = own.norm <= kGrowth * x.norm;
+      }
       if (ok) break;
       if (cut == ns.max_halvings) break;  // the shortest step is taken: the secant iteration follows
       s *= 0.5, ++stats_.halvings;
@@ -324,15 +369,22 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     // accepts (solver/newton.hpp; a virtual rigid body's large forces set
     // the floor of Test II's F near 1e-6).
     const bool round_off = du <= kRoundOffCorrection * unorm && x.norm <= kRoundOffFactor * ns.tol_force * x.scale;
-    if (changes == 0 && ((x.norm <= ns.tol_force * x.scale && error <= ns.tol_velocity * unorm) || round_off)) {
+    // F on the iterate's own sets is the conditions' residual: within the
+    // tolerance the iterate meets them, whether or not a row changed its
+    // set in the last step (a row at the kink between two sets, at zero
+    // slip with its force at the bound, meets both and may swap between
+    // them at round-off).
+    if (((x.norm <= ns.tol_force * x.scale && error <= ns.tol_velocity * unorm) || round_off) && rows_meet(v, x)) {
       // Converged on the sets held: done if they are the solution's, else
       // the rows whose own branch differs are released.
       Iterate free = x;
       rows(v, free, nullptr, false);
+      const bool free_meets = free.norm <= (round_off ? kRoundOffFactor : 1.0) * ns.tol_force * free.scale &&
+                              rows_meet(v, free);
       int released = 0;
       for (std::size_t j = 0; j < m; ++j) {
         if (!held_[j]) continue;
-        const bool holds = held_[j]->grazing ? grazing_holds(x, j) : free.sets[j] == set_of(*held_[j]);
+        const bool holds = held_[j]->grazing ? grazing_holds(x, j) : free_meets || free.sets[j] == set_of(*held_[j]);
         if (holds) continue;
         ++released;
         if (held_[j]->grazing && std::abs(x.lt[j]) > x.ncp[j].g) {

@@ -62,6 +62,7 @@ struct SsnSettings {
   NewtonSettings newton;   // tolerances, iterations, line search: the scene's solver.*
   double c_normal = 1, c_tangential = 1;  // formulations.ssn.* (ssn_enforcement.hpp)
   LuMode lu = LuMode::Auto;
+  double speed_scale = 1;  // mm/s: the scene's largest prescribed speed
 };
 
 // The row state the enforcement keeps between solves and reads after one.
@@ -146,6 +147,9 @@ class SsnStepSolver final : public StepSolver {
   void rows(const StepView& v, Iterate& it, const Iterate* branch, bool hold = false);
   SpMat jacobian(const SpMat& K, const Iterate& it) const;
   bool newton_step(const SpMat& K, const Iterate& it, Vec& dx);
+  // Whether every row meets its own set's conditions at it to kRowGap and
+  // kRowSlip (ssn_step_solver.cpp).
+  bool rows_meet(const StepView& v, const Iterate& it) const;
   // Whether row j held grazing meets the friction law's hull at it.
   bool grazing_holds(const Iterate& it, std::size_t j) const;
 
