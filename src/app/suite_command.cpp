@@ -44,14 +44,21 @@ std::vector<std::string> applicable(CaseFile& file, const Scene& scene) {
   for (const auto& p : scene.contact_pairs) (p.with_die() ? dies : bodies) = true;
   if (!dies && !bodies) return {scene.formulation};
   const std::string own = contact_choice(file, scene).discretization;
-  std::vector<std::string> out;
+  // An enforcement that refuses over-constrained rows between bodies runs
+  // only the other discretizations there.
+  const auto allowed = [&](const FormulationInfo& f, const DiscretizationInfo& d) {
+    return !(bodies && d.overconstrains && f.refuses_overconstrained);
+  };
+  std::vector<const FormulationInfo*> enforcements;
   for (const auto& f : formulations())
-    if ((f.dies || !dies) && (f.bodies || !bodies) && (f.dies || f.bodies)) out.push_back(f.name);
-  const std::size_t n = out.size();
+    if ((f.dies || !dies) && (f.bodies || !bodies) && (f.dies || f.bodies)) enforcements.push_back(&f);
+  std::vector<std::string> out;
+  for (const FormulationInfo* f : enforcements)
+    if (allowed(*f, *find_discretization(own))) out.push_back(f->name);
   for (const auto& d : discretizations())
     if (d.name != own && (bodies || !d.between_bodies_only))
-      for (std::size_t i = 0; i < n; ++i)
-        if (!(d.overconstrains && find_formulation(out[i])->exact)) out.push_back(out[i] + "+" + d.name);
+      for (const FormulationInfo* f : enforcements)
+        if (!(d.overconstrains && f->exact)) out.push_back(f->name + "+" + d.name);
   return out;
 }
 
