@@ -213,10 +213,11 @@ void IpoptEnforcement::classify(const std::vector<double>& g) {
   stick_ = slip_ = 0;
   for (std::size_t i = 0; i < rows_->size(); ++i) {
     RowResult& r = results_[i];
-    if (bound_of_[i] < 0 || !exact(i) || !r.in_contact || !(g[i] > 0)) continue;
-    // Held frictionless (one direction, ipopt_step_solver.hpp): its force is
-    // its bound, zero; slipping, as under ssn.
-    if (!bound_rows_[bound_of_[i]].friction_rows) {
+    if (bound_of_[i] < 0 || !exact(i) || !r.in_contact) continue;
+    // A zero bound (a contact area of zero: a point contact), or held
+    // frictionless (one direction, ipopt_step_solver.hpp): its force is its
+    // bound, zero; slipping, as under ssn.
+    if (!(g[i] > 0) || !bound_rows_[bound_of_[i]].friction_rows) {
       r.stick = -1, ++slip_;
       continue;
     }
