@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "model/step_problem.hpp"
 
@@ -27,8 +28,11 @@ constexpr double kColdMuInit = 0.1;
 // round-off), and the constraint residual (over v_ref) and set violations
 // (over the bound, the force scale or v_ref) it may leave.
 constexpr int kPolishIterations = 4;
-// Guesses of the sets a polish tries (ipopt_step_solver.cpp, polish).
-constexpr int kPolishRounds = 4;
+// Guesses of the sets a polish tries (polish): the backward extrusion's
+// took up to six, its first guess wrong on 15 to 21 rows slipping slower
+// than about 1e-4 of the punch speed (an interior point's slip below
+// sqrt(mu v_ref / g) reads as sticking).
+constexpr int kPolishRounds = 8;
 constexpr double kPolishRoundOff = 1e-12;
 // Gap and slip rates whose weights' Gram determinant is below this
 // fraction of |a_N|^2 |a_T|^2 move along one direction: the row is
@@ -305,6 +309,12 @@ bool IpoptStepSolver::polish(StepProblem& problem, NlpOutcome& out) {
   // beyond its bound: slipping against its force; slipping against its
   // force: sticking), as a primal-dual active set step (Hintermueller, Ito
   // and Kunisch 2002, SIAM J. Optim. 13, sec. 2), for kPolishRounds guesses.
+  // A node in contact with two dies has its velocity fixed by their
+  // normals: where it sticks, the split of its reaction between them is
+  // not determined (the rows held would be dependent), and its friction
+  // force is taken as zero (a valid sticking force), as ssn's rule
+  // (docs/theory.md, "A node on two dies"); where it slips along a die,
+  // the force is that die's bound.
   const Index n = out.u.size();
   const std::size_t normal = row_of_.size(), nf = friction_of_.size();
   const auto dot = [n](const LinearRow& r, const Vec& u) {
@@ -317,6 +327,11 @@ bool IpoptStepSolver::polish(StepProblem& problem, NlpOutcome& out) {
   // a_T . u + t_0 with t_0 = -lower.
   const auto slip_row = [&](std::size_t k) -> const LinearRow& { return nlp_rows_[normal + 2 * k + 1]; };
   const auto gamma = [&](std::size_t k, const Vec& u) { return dot(slip_row(k), u) - slip_row(k).lower; };
+  // The slave node of a row against a die (a row of one node), else -1.
+  const auto die_node = [&](int row) -> Index {
+    const PairKinematics& k = *(*rows_)[row].kin;
+    return k.k == 1 ? k.nodes[0] : -1;
+  };
   std::vector<char> active(normal);
   std::vector<double> N(normal), T(nf), sigma(nf, 0.0);  // sigma: 0 sticking
   for (std::size_t j = 0; j < normal; ++j) {
@@ -340,13 +355,23 @@ bool IpoptStepSolver::polish(StepProblem& problem, NlpOutcome& out) {
       bool friction;
     };
     std::vector<Held> held;
+    std::map<Index, int> on_dies;  // slave node: its rows in contact against dies
     for (std::size_t j = 0; j < normal; ++j)
-      if (active[j]) held.push_back({&nlp_rows_[j], -nlp_rows_[j].lower, j, false});
-    for (std::size_t k = 0; k < nf; ++k)
-      if (sigma[k] == 0) held.push_back({&slip_row(k), -slip_row(k).lower, k, true});
+      if (active[j]) {
+        held.push_back({&nlp_rows_[j], -nlp_rows_[j].lower, j, false});
+        if (die_node(row_of_[j]) >= 0) ++on_dies[die_node(row_of_[j])];
+      }
+    // Sticking rows of a node on two dies: T = 0, not held.
+    std::vector<char> pinned(nf, 0);
+    for (std::size_t k = 0; k < nf; ++k) {
+      const Index node = die_node(friction_of_[k]);
+      pinned[k] = sigma[k] == 0 && node >= 0 && on_dies[node] > 1;
+      if (pinned[k]) T[k] = 0;
+      else if (sigma[k] == 0) held.push_back({&slip_row(k), -slip_row(k).lower, k, true});
+    }
     const Index m = static_cast<Index>(held.size());
     const auto force = [&](const Held& h) -> double& { return h.friction ? T[h.index] : N[h.index]; };
-    u = out.u;
+    if (round == 0) u = out.u;  // then from the last guess's solution
     const auto residual = [&] {
       problem.residual(u, R, scale);
       F.resize(n + m);
@@ -382,9 +407,9 @@ bool IpoptStepSolver::polish(StepProblem& problem, NlpOutcome& out) {
       residual();
       if (dx.head(n).norm() <= kPolishRoundOff * u.norm()) break;
     }
-    // As stationary as Ipopt's solution (its measured stationarity, or its
-    // round-off floor), the rows held met.
-    if (F.head(n).norm() / scale > std::max(kkt_.stationarity, kRoundOffMultiple * kkt_.round_off)) return false;
+    // As stationary as Ipopt's solution (its measured stationarity, its tol
+    // or the round-off floor), the rows held met.
+    if (F.head(n).norm() / scale > std::max({kkt_.stationarity, tol_, kRoundOffMultiple * kkt_.round_off})) return false;
     for (Index i = 0; i < m; ++i)
       if (std::abs(F[n + i]) > kPolishRoundOff * speed_scale_) return false;
     // The inequalities: rows outside them change their set.
@@ -395,10 +420,12 @@ bool IpoptStepSolver::polish(StepProblem& problem, NlpOutcome& out) {
       else if (!active[j] && rate < -kPolishRoundOff * speed_scale_) active[j] = 1, ++changed;    // penetrating
     }
     for (std::size_t k = 0; k < nf; ++k) {
-      const double g = nlp_cost_[k];
-      if (sigma[k] == 0 && std::abs(T[k]) > g * (1 + kPolishRoundOff)) {
+      const double g = nlp_cost_[k], gk = gamma(k, u);
+      if (pinned[k] && std::abs(gk) > kPolishRoundOff * speed_scale_) {
+        sigma[k] = gk > 0 ? 1.0 : -1.0, ++changed;  // slipping along a die
+      } else if (sigma[k] == 0 && std::abs(T[k]) > g * (1 + kPolishRoundOff)) {
         sigma[k] = T[k] < 0 ? 1.0 : -1.0, ++changed;  // beyond its bound: slipping against its force
-      } else if (sigma[k] != 0 && sigma[k] * gamma(k, u) < -kPolishRoundOff * speed_scale_) {
+      } else if (sigma[k] != 0 && sigma[k] * gk < -kPolishRoundOff * speed_scale_) {
         T[k] = -g * sigma[k], sigma[k] = 0, ++changed;  // slipping against its force: sticking, from its force
       }
     }
