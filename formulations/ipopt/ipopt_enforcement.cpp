@@ -25,8 +25,13 @@ double force_scale(const Scene& scene, const ContactDiscretization& disc) {
 
 IpoptEnforcement::IpoptEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
     : disc_(disc), solver_(scene, settings, force_scale(scene, disc)) {
-  require_friction_treatment(scene, name(), {});
-  friction_tol_ = settings.real("friction_tolerance", 1e-6, Range::positive(),
+  require_friction_treatment(scene, name(), {true, true, false});
+  for (const auto& f : disc.interfaces()) exact_any_ = exact_any_ || f.friction.exact(false);
+  // The exact law is met to the bounds' fixed point (Coulomb's mu N from
+  // the last pass): to 1e-10 where some law is exact, so that the law
+  // holds to 1e-8 of each row's bound (kkt_friction); the arctan law's own
+  // smoothing is larger than 1e-6.
+  friction_tol_ = settings.real("friction_tolerance", exact_any_ ? 1e-10 : 1e-6, Range::positive(),
                                 "relative change of the friction bounds that ends the fixed point");
   predict_ = settings.flag("predict_bounds", true);
   speed_scale_ = scene.largest_speed();
@@ -63,13 +68,21 @@ void IpoptEnforcement::begin_step(const StepView& v, const std::vector<ContactRo
     if (bound_of_[i] < 0) continue;
     const auto it = latest_force_.find({rows[i].iface, rows[i].key});
     bound_rows_[bound_of_[i]].start_force = it != latest_force_.end() ? it->second : 0.0;
+    const auto f = latest_friction_.find({rows[i].iface, rows[i].key});
+    bound_rows_[bound_of_[i]].start_friction = f != latest_friction_.end() ? f->second : 0.0;
   }
   flipped_.assign(rows.size(), 0);
   flips_ = 0;
   last_g_.clear();
   last_Fg_.clear();
   set_bounds(v, force);
+  hand_bounds();
   solver_.first_loose(std::any_of(bound_.begin(), bound_.end(), [](double b) { return b > 0; }));
+}
+
+void IpoptEnforcement::hand_bounds() {
+  for (std::size_t i = 0; i < rows_->size(); ++i)
+    if (bound_of_[i] >= 0) bound_rows_[bound_of_[i]].exact_bound = exact(i) ? bound_[i] : 0.0;
 }
 
 void IpoptEnforcement::predict_forces(const std::vector<ContactRow>& rows, std::vector<double>& force) {
@@ -125,7 +138,7 @@ void IpoptEnforcement::set_bounds(const StepView& v, const std::vector<double>& 
 
 void IpoptEnforcement::add_terms(const StepView&, const std::vector<Vec2>& vel, TermSink& sink) const {
   for (std::size_t i = 0; i < rows_->size(); ++i) {
-    if (!(bound_[i] > 0) || (*rows_)[i].free) continue;
+    if (!(bound_[i] > 0) || (*rows_)[i].free || exact(i)) continue;  // exact: the solver's slack rows
     const PairKinematics& k = (*rows_)[i].kin;
     RowLaw l;
     l.normal = false;
@@ -148,11 +161,13 @@ StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& v
     r.normal = bound_rows_[bound_of_[i]].force;
     r.in_contact = pressing(i);
     r.slip = slip_rate(rows[i].kin, vel);
-    if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
+    if (exact(i)) r.friction = bound_rows_[bound_of_[i]].friction;  // q - p of its slack rows
+    else if (bound_[i] > 0) r.friction = -bound_[i] * arctan_potential(r.slip, smoothing_speed(i)).dpsi;
     if (r.in_contact != static_cast<bool>(on_[i]) && !flipped_[i]) on_[i] = r.in_contact, flipped_[i] = 1, ++flips_;
     if (on_[i]) force[i] = std::max(r.normal, 0.0);
   }
   set_bounds(v, force);
+  if (exact_any_) classify(bound_);
   double largest = 0, change = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     largest = std::max({largest, before[i], bound_[i]});
@@ -162,21 +177,61 @@ StepCheck IpoptEnforcement::settle(const StepView& v, const std::vector<Vec2>& v
   out.resolve = friction_change_ > friction_tol_;
   if (out.resolve) accelerate(before, flips_before);
   // A pass to the loose tol while the bounds still move by more than
-  // kLooseAbove friction tolerances (its solution is only the next bounds'
-  // source), to warm_tol near the fixed point; the solution taken is
-  // never a loose one (one more pass where the last was loose).
+  // kLooseAbove friction tolerances (and kLooseAbove kLooseResolution: its
+  // solution is only the next bounds' source), to warm_tol near the fixed
+  // point; the solution taken is never a loose one (one more pass where
+  // the last was loose).
   if (!out.resolve && solver_.last_loose()) out.resolve = true;
   if (out.resolve) {
-    solver_.warm_next(friction_change_ > kLooseAbove * friction_tol_);
+    solver_.warm_next(friction_change_ > kLooseAbove * std::max(friction_tol_, kLooseResolution));
+    hand_bounds();
     return out;
   }
   // Settled: its forces start the next solve (BoundRow::start_force), and
   // its pressing forces predict the next solve's bounds within this step.
   latest_force_.clear();
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    if (bound_of_[i] >= 0) latest_force_[{rows[i].iface, rows[i].key}] = bound_rows_[bound_of_[i]].force;
+  latest_friction_.clear();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (bound_of_[i] < 0) continue;
+    latest_force_[{rows[i].iface, rows[i].key}] = bound_rows_[bound_of_[i]].force;
+    if (exact(i)) latest_friction_[{rows[i].iface, rows[i].key}] = bound_rows_[bound_of_[i]].friction;
+  }
   record_pressing(in_step_);
   return out;
+}
+
+void IpoptEnforcement::classify(const std::vector<double>& g) {
+  // A row in contact sticks where its slip rate is nearer zero than its
+  // friction force is to the bound, in their scales,
+  //   |gamma_T| / v_ref < 1 - |T| / g,
+  // and slips elsewhere: the exact solution (a polished one,
+  // ipopt_step_solver.hpp) has one of the two zero, an interior point's
+  // both small, their product Ipopt's complementarity. Measured against
+  // the bound of the solve's own forces (Coulomb's mu N of this solve, not
+  // of the last), as SsnEnforcement::measure.
+  kkt_friction_ = kkt_stick_slip_ = 0;
+  stick_ = slip_ = 0;
+  for (std::size_t i = 0; i < rows_->size(); ++i) {
+    RowResult& r = results_[i];
+    if (bound_of_[i] < 0 || !exact(i) || !r.in_contact) continue;
+    // A zero bound (a contact area of zero: a point contact), or held
+    // frictionless (one direction, ipopt_step_solver.hpp): its force is its
+    // bound, zero; slipping, as under ssn.
+    if (!(g[i] > 0) || !bound_rows_[bound_of_[i]].friction_rows) {
+      r.stick = -1, ++slip_;
+      continue;
+    }
+    const double T = r.friction, rate = std::abs(r.slip) / speed_scale_;
+    kkt_friction_ = std::max(kkt_friction_, std::max(0.0, std::abs(T) - g[i]) / g[i]);
+    if (rate < 1 - std::abs(T) / g[i]) {
+      r.stick = 1, ++stick_;
+      kkt_stick_slip_ = std::max(kkt_stick_slip_, rate);
+    } else {
+      r.stick = -1, ++slip_;
+      const double sign = r.slip > 0 ? 1.0 : r.slip < 0 ? -1.0 : 0.0;
+      if (sign != 0) kkt_friction_ = std::max(kkt_friction_, std::abs(T + g[i] * sign) / g[i]);
+    }
+  }
 }
 
 void IpoptEnforcement::accelerate(const std::vector<double>& g, int flips_before) {
@@ -226,6 +281,12 @@ void IpoptEnforcement::columns(std::vector<NamedValue>& out) const {
   const MumpsAnalysisCounts a = solver_.mumps_analyses();
   out.push_back({"mumps_analyses", static_cast<double>(a.analysed)});
   out.push_back({"mumps_analyses_reused", static_cast<double>(a.reused)});
+  if (!exact_any_) return;
+  out.push_back({"stick_rows", static_cast<double>(stick_)});
+  out.push_back({"slip_rows", static_cast<double>(slip_)});
+  out.push_back({"kkt_friction", kkt_friction_});
+  out.push_back({"kkt_stick_slip", kkt_stick_slip_});
+  out.push_back({"polished", solver_.polished() ? 1.0 : 0.0});
 }
 
 void IpoptEnforcement::derived(std::vector<NamedValue>& out) const {

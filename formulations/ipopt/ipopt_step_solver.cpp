@@ -1,7 +1,9 @@
 #include "ipopt/ipopt_step_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "model/step_problem.hpp"
 
@@ -22,11 +24,25 @@ constexpr double kComplTolFactor = 0.1;
 constexpr double kRoundOffMultiple = 10;
 // Ipopt's default initial barrier parameter, for the run's cold first solve.
 constexpr double kColdMuInit = 0.1;
+// Newton iterations of a polish (from Ipopt's solution: one or two reach
+// round-off), and the constraint residual (over v_ref) and set violations
+// (over the bound, the force scale or v_ref) it may leave.
+constexpr int kPolishIterations = 4;
+// Guesses of the sets a polish tries (polish): the backward extrusion's
+// took up to six, its first guess wrong on 15 to 21 rows slipping slower
+// than about 1e-4 of the punch speed (an interior point's slip below
+// sqrt(mu v_ref / g) reads as sticking).
+constexpr int kPolishRounds = 8;
+constexpr double kPolishRoundOff = 1e-12;
+// Gap and slip rates whose weights' Gram determinant is below this
+// fraction of |a_N|^2 |a_T|^2 move along one direction: the row is
+// frictionless (ipopt_step_solver.hpp).
+constexpr double kParallel = 1e-12;
 
 }  // namespace
 
 IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, double force_scale)
-    : force_scale_(std::max(force_scale, 1e-12)) {
+    : force_scale_(std::max(force_scale, 1e-12)), polish_lu_(LinearSolverChoice::Lu, CholeskyMode::Supernodal, scene.solver.lu) {
   tol_ = settings.real("tol", 1e-10, Range::positive(), "Ipopt's tol (scaled NLP error)");
   warm_tol_ = settings.real("warm_tol", 1e-11, Range::positive(),
                             "Ipopt's tol when starting from the last multipliers (a pass near the friction bounds' "
@@ -50,6 +66,7 @@ IpoptStepSolver::IpoptStepSolver(const Scene& scene, CaseSection& settings, doub
   // choice) permutes by the first matrix's values at every solve.
   const int mumps_permuting_scaling = settings.integer("mumps_permuting_scaling", 0, 0, 7);
   reuse_analysis_ = settings.flag("reuse_mumps_analysis", true);
+  polish_ = settings.flag("polish", true);
   // Refinement steps on the primal-dual system before its residual is
   // checked: Ipopt's default 1 costs a back-solve at every iteration; it
   // refines anyway while the residual ratio exceeds its residual_ratio_max.
@@ -102,45 +119,123 @@ void IpoptStepSolver::derived(std::vector<NamedValue>& out) const {
   out.push_back({"ipopt.force_scale_N", force_scale_});
 }
 
-SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec& u) {
-  // Rows: gamma_N(u) + g_from / dt >= 0 with v_a = T_a u_a + p_a.
+void IpoptStepSolver::build_rows(const StepView& v, const StepProblem& problem, const Vec& u,
+                                 std::vector<LinearRow>& rows, std::vector<double>& cost, Vec& x) {
+  // Rows: gamma_N(u) + g_from / dt >= 0 with v_a = T_a u_a + p_a; exact
+  // friction's s_j - gamma_T,j(u) >= 0 and s_j + gamma_T,j(u) >= 0
+  // (ipopt_step_solver.hpp), gamma_T = a_T . u + t_0 alike along t.
   const DofMap& dofs = problem.dofs();
   const double inv_dt = v.dt > 0 ? 1.0 / v.dt : 0.0;
-  std::vector<LinearRow> rows;
-  std::vector<int> row_of;
+  const Index n = u.size();
+  rows.clear();
+  cost.clear();
+  row_of_.clear();
+  friction_of_.clear();
+  struct Slip {
+    std::vector<std::pair<Index, double>> at;
+    double t0 = 0;
+  };
+  std::vector<Slip> slips;
   for (int j = 0; j < static_cast<int>(rows_->size()); ++j) {
-    const PairKinematics& k = *(*rows_)[j].kin;
+    const BoundRow& b = (*rows_)[j];
+    const PairKinematics& k = *b.kin;
+    const Vec2 t(-k.n(1), k.n(0));
     LinearRow r;
+    Slip slip;
     double constant = -k.offset.dot(k.n);
+    slip.t0 = -k.offset.dot(t);
     for (int a = 0; a < k.k; ++a) {
       const NodeFrame& fr = dofs.frame(k.nodes[a]);
       constant += k.c[a] * k.n.dot(fr.p);
-      for (int q = 0; q < fr.nfree; ++q) r.terms.emplace_back(fr.dof[q], k.c[a] * k.n.dot(fr.T.col(q)));
+      slip.t0 += k.c[a] * t.dot(fr.p);
+      for (int q = 0; q < fr.nfree; ++q) {
+        r.terms.emplace_back(fr.dof[q], k.c[a] * k.n.dot(fr.T.col(q)));
+        slip.at.emplace_back(fr.dof[q], k.c[a] * t.dot(fr.T.col(q)));
+      }
     }
     if (r.terms.empty()) continue;  // nothing free to move: the kernel's constraints decide
     r.lower = -(k.gap_from * inv_dt + constant);
     rows.push_back(std::move(r));
-    row_of.push_back(j);
+    row_of_.push_back(j);
+    if (!(b.exact_bound > 0)) continue;
+    double nn = 0, tt = 0, nt = 0;
+    for (std::size_t q = 0; q < slip.at.size(); ++q) {
+      const double an = rows.back().terms[q].second, at = slip.at[q].second;
+      nn += an * an, tt += at * at, nt += an * at;
+    }
+    if (nn * tt - nt * nt <= kParallel * nn * tt || tt <= kParallel * nn) continue;  // one direction: frictionless
+    friction_of_.push_back(j);
+    cost.push_back(b.exact_bound);
+    slips.push_back(std::move(slip));
   }
+  x.resize(n + static_cast<Index>(slips.size()));
+  x.head(n) = u;
+  for (std::size_t q = 0; q < slips.size(); ++q) {
+    const Index s = n + static_cast<Index>(q);
+    double gamma = slips[q].t0;
+    LinearRow plus, minus;  // s - gamma_T >= 0, s + gamma_T >= 0
+    for (const auto& [dof, a] : slips[q].at) {
+      gamma += a * u[dof];
+      plus.terms.emplace_back(dof, -a);
+      minus.terms.emplace_back(dof, a);
+    }
+    plus.terms.emplace_back(s, 1.0);
+    minus.terms.emplace_back(s, 1.0);
+    plus.lower = slips[q].t0;
+    minus.lower = -slips[q].t0;
+    rows.push_back(std::move(plus));
+    rows.push_back(std::move(minus));
+    x[s] = std::abs(gamma);
+  }
+}
+
+std::vector<double> IpoptStepSolver::row_multipliers(bool last_solve) const {
+  // Ipopt's sign: lambda = -N. An exact friction row's p, q from its force
+  // T = q - p and p + q = g (ipopt_step_solver.hpp), within [0, g].
+  std::vector<double> lambda;
+  lambda.reserve(row_of_.size() + 2 * friction_of_.size());
+  for (int j : row_of_) lambda.push_back(-(last_solve ? (*rows_)[j].force : (*rows_)[j].start_force));
+  for (int j : friction_of_) {
+    const BoundRow& b = (*rows_)[j];
+    const double g = b.exact_bound, T = last_solve ? b.friction : b.start_friction;
+    const double p = std::clamp(0.5 * (g - T), 0.0, g);
+    lambda.push_back(-p);
+    lambda.push_back(-(g - p));
+  }
+  return lambda;
+}
+
+SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec& u) {
+  std::vector<LinearRow> rows;
+  std::vector<double> cost;
+  const std::vector<int> friction_before = friction_of_;
+  Vec x;
+  build_rows(v, problem, u, rows, cost, x);
   // A pass of the same solve (set_rows starts each) re-solves the same
   // program: Ipopt keeps its structure (its spaces and index maps) when
   // handed the same TNLP, and MUMPS its analysis (Ipopt 3.11 asks for one
-  // at every solve regardless: mumps_analysis_reuse.hpp).
+  // at every solve regardless: mumps_analysis_reuse.hpp). The slacks'
+  // costs (the exact friction bounds) are the objective's: they may change.
   const auto same = [](const LinearRow& a, const LinearRow& b) { return a.lower == b.lower && a.terms == b.terms; };
-  if (IsNull(nlp_) || u.size() != nlp_unknowns_ || rows.size() != nlp_rows_.size() ||
-      !std::equal(rows.begin(), rows.end(), nlp_rows_.begin(), same)) {
+  const bool same_program = IsValid(nlp_) && u.size() == nlp_unknowns_ && rows.size() == nlp_rows_.size() &&
+                            friction_of_ == friction_before &&
+                            std::equal(rows.begin(), rows.end(), nlp_rows_.begin(), same);
+  if (!same_program) {
     nlp_ = nullptr;
     nlp_rows_ = std::move(rows);
     nlp_unknowns_ = u.size();
   }
+  nlp_cost_ = cost;  // in place: the program reads it at every evaluation
   const std::vector<LinearRow>& rows_now = nlp_rows_;
   const bool cold = !(last_scale_ > 0);
   // Where the solution is near a known one, Ipopt starts from its
   // multipliers too, near the central path (warm_mu_init, warm_bound_push)
   // instead of re-entering it from mu_init: a friction pass re-solves the
   // same rows after a change of the objective alone (the last solve's
-  // multipliers); a step's first solve starts from the rows' forces in the
-  // last settled solve (BoundRow::start_force). A pass's start meets a
+  // multipliers; the last solve's forces where exact friction rows came or
+  // went with the bounds); a step's first solve starts from the rows'
+  // forces in the last settled solve (BoundRow::start_force,
+  // start_friction). A pass's start meets a
   // loose tol already, and Ipopt would stop there without following the
   // new bounds (a plain start's last Newton steps overshoot tol by orders):
   // warm starts are solved to warm_tol, but for the passes far from the
@@ -151,25 +246,21 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
   // not taken (warm_max_iter) is solved again from the plain start.
   std::vector<double> start_lambda;
   if (warm_start_ && !cold) {
-    if (warm_next_ && last_lambda_.size() == rows_now.size()) {
-      start_lambda = last_lambda_;
-    } else if (!warm_next_) {
-      start_lambda.resize(rows_now.size());
-      for (std::size_t j = 0; j < rows_now.size(); ++j) start_lambda[j] = -(*rows_)[row_of[j]].start_force;
-    }
+    if (warm_next_ && same_program && last_lambda_.size() == rows_now.size()) start_lambda = last_lambda_;
+    else if (!warm_next_ || !friction_of_.empty() || !friction_before.empty()) start_lambda = row_multipliers(warm_next_);
   }
   const bool loose = !start_lambda.empty() && loose_next_;
   last_loose_ = loose;
   warm_next_ = loose_next_ = false;
-  used_ = static_cast<int>(rows_now.size());
+  used_ = static_cast<int>(row_of_.size());
   SolveOutcome result;
   NlpOutcome out;
   bool ok = false;
   if (!start_lambda.empty()) {
     use_warm_start(true, loose ? loose_tol_ : warm_tol_);
-    out = optimize(problem, u, last_scale_, &start_lambda);
+    out = optimize(problem, x, last_scale_, &start_lambda);
     use_warm_start(false, tol_);
-    ok = conclude(v, problem, row_of, out, result);
+    ok = conclude(v, problem, out, result);
     if (!ok) ++warm_failures_, last_loose_ = false;
   }
   if (!ok) {
@@ -182,35 +273,211 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
       problem.residual(u, R, last_scale_);
       app_->Options()->SetNumericValue("mu_init", kColdMuInit);
     }
-    out = optimize(problem, u, last_scale_);
+    out = optimize(problem, x, last_scale_);
     if (cold) app_->Options()->SetNumericValue("mu_init", mu_init_);
-    ok = conclude(v, problem, row_of, out, result);
+    ok = conclude(v, problem, out, result);
   }
   if (!ok) return result;
   result.reason.clear();
-  u = out.u;
+  // The next pass starts from Ipopt's own multipliers (its central path),
+  // not the polished ones (zero on the inactive rows).
   last_lambda_ = out.lambda;
+  polished_ = false;
+  if (polish_ && !nlp_cost_.empty() && polish(problem, out)) {
+    polished_ = true;
+    last_scale_ = measure(v, problem, out);
+  }
+  u = out.u;
   result.converged = true;
   return result;
 }
 
-bool IpoptStepSolver::conclude(const StepView& v, StepProblem& problem, const std::vector<int>& row_of,
-                               NlpOutcome& out, SolveOutcome& result) {
+bool IpoptStepSolver::polish(StepProblem& problem, NlpOutcome& out) {
+  // The program's Kuhn-Tucker conditions with a guess of its sets as
+  // equalities, in u and the forces of the rows held (N on a row in
+  // contact, A; T on a sticking row, S; a slipping row's T = -g sigma is
+  // known, sigma = sign gamma_T):
+  //   F_u = R(u) - sum_A N_j a_N,j - sum_S T_k a_T,k + sum_slip g_k sigma_k a_T,k = 0
+  //   a_N,j . u - l_j = 0 (j in A),   a_T,k . u + t_0,k = 0 (k in S)
+  // Newton from Ipopt's solution: [K -C^T; C 0] (du, dforce) = -(F_u, F_c),
+  // C the rows held, K the consistent tangent. The first guess: each row
+  // on the side of the larger of its two complementary quantities in
+  // their scales (in contact where N / F_s > (a_N . u - l) / v_ref,
+  // sticking where |gamma_T| / v_ref < 1 - |T| / g, as
+  // IpoptEnforcement::classify). A row the result puts outside its
+  // inequalities changes its set (tensile: open; penetrating: in contact;
+  // beyond its bound: slipping against its force; slipping against its
+  // force: sticking), as a primal-dual active set step (Hintermueller, Ito
+  // and Kunisch 2002, SIAM J. Optim. 13, sec. 2), for kPolishRounds guesses.
+  // A node in contact with two dies has its velocity fixed by their
+  // normals: where it sticks, the split of its reaction between them is
+  // not determined (the rows held would be dependent), and its friction
+  // force is taken as zero (a valid sticking force), as ssn's rule
+  // (docs/theory.md, "A node on two dies"); where it slips along a die,
+  // the force is that die's bound.
+  const Index n = out.u.size();
+  const std::size_t normal = row_of_.size(), nf = friction_of_.size();
+  const auto dot = [n](const LinearRow& r, const Vec& u) {
+    double s = 0;
+    for (const auto& [d, a] : r.terms)
+      if (d < n) s += a * u[d];
+    return s;
+  };
+  // gamma_T of friction k: its second row is s + gamma_T >= 0, gamma_T =
+  // a_T . u + t_0 with t_0 = -lower.
+  const auto slip_row = [&](std::size_t k) -> const LinearRow& { return nlp_rows_[normal + 2 * k + 1]; };
+  const auto gamma = [&](std::size_t k, const Vec& u) { return dot(slip_row(k), u) - slip_row(k).lower; };
+  // The slave node of a row against a die (a row of one node), else -1.
+  const auto die_node = [&](int row) -> Index {
+    const PairKinematics& k = *(*rows_)[row].kin;
+    return k.k == 1 ? k.nodes[0] : -1;
+  };
+  std::vector<char> active(normal);
+  std::vector<double> N(normal), T(nf), sigma(nf, 0.0);  // sigma: 0 sticking
+  for (std::size_t j = 0; j < normal; ++j) {
+    N[j] = -out.lambda[j];
+    active[j] = N[j] / force_scale_ > (dot(nlp_rows_[j], out.u) - nlp_rows_[j].lower) / speed_scale_;
+  }
+  for (std::size_t k = 0; k < nf; ++k) {
+    const double gk = gamma(k, out.u), g = nlp_cost_[k];
+    T[k] = out.lambda[normal + 2 * k] - out.lambda[normal + 2 * k + 1];
+    if (!(std::abs(gk) / speed_scale_ < 1 - std::abs(T[k]) / g))
+      sigma[k] = gk > 0 ? 1.0 : gk < 0 ? -1.0 : T[k] < 0 ? 1.0 : -1.0;
+  }
+  Vec u, R, F;
+  double scale = 0;
+  for (int round = 0; round < kPolishRounds; ++round) {
+    // The rows held: (row, constant, whose force: normal j or friction k).
+    struct Held {
+      const LinearRow* row;
+      double constant;
+      std::size_t index;
+      bool friction;
+    };
+    std::vector<Held> held;
+    std::map<Index, int> on_dies;  // slave node: its rows in contact against dies
+    for (std::size_t j = 0; j < normal; ++j)
+      if (active[j]) {
+        held.push_back({&nlp_rows_[j], -nlp_rows_[j].lower, j, false});
+        if (die_node(row_of_[j]) >= 0) ++on_dies[die_node(row_of_[j])];
+      }
+    // Sticking rows of a node on two dies: T = 0, not held.
+    std::vector<char> pinned(nf, 0);
+    for (std::size_t k = 0; k < nf; ++k) {
+      const Index node = die_node(friction_of_[k]);
+      pinned[k] = sigma[k] == 0 && node >= 0 && on_dies[node] > 1;
+      if (pinned[k]) T[k] = 0;
+      else if (sigma[k] == 0) held.push_back({&slip_row(k), -slip_row(k).lower, k, true});
+    }
+    const Index m = static_cast<Index>(held.size());
+    const auto force = [&](const Held& h) -> double& { return h.friction ? T[h.index] : N[h.index]; };
+    if (round == 0) u = out.u;  // then from the last guess's solution
+    const auto residual = [&] {
+      problem.residual(u, R, scale);
+      F.resize(n + m);
+      F.head(n) = R;
+      for (std::size_t k = 0; k < nf; ++k)
+        if (sigma[k] != 0)
+          for (const auto& [d, a] : slip_row(k).terms)
+            if (d < n) F[d] += nlp_cost_[k] * sigma[k] * a;
+      for (Index i = 0; i < m; ++i) {
+        const Held& h = held[i];
+        F[n + i] = dot(*h.row, u) + h.constant;
+        for (const auto& [d, a] : h.row->terms)
+          if (d < n) F[d] -= force(h) * a;
+      }
+    };
+    residual();
+    for (int it = 0; it < kPolishIterations; ++it) {
+      const SpMat& K = problem.tangent(u, true);
+      std::vector<Eigen::Triplet<double, int>> trip;
+      trip.reserve(K.nonZeros() + 4 * held.size() * kMaxRowNodes);
+      for (Eigen::Index c = 0; c < K.outerSize(); ++c)
+        for (SpMat::InnerIterator e(K, c); e; ++e) trip.emplace_back(e.row(), e.col(), e.value());
+      for (Index i = 0; i < m; ++i)
+        for (const auto& [d, a] : held[i].row->terms)
+          if (d < n) trip.emplace_back(d, n + i, -a), trip.emplace_back(n + i, d, a);
+      SpMat J(n + m, n + m);
+      J.setFromTriplets(trip.begin(), trip.end());
+      if (!polish_lu_.factorize(J, false, ++polish_pattern_)) return false;  // the rows held are dependent
+      const Vec dx = polish_lu_.solve(-F);
+      if (!dx.allFinite()) return false;
+      u += dx.head(n);
+      for (Index i = 0; i < m; ++i) force(held[i]) += dx[n + i];
+      residual();
+      if (dx.head(n).norm() <= kPolishRoundOff * u.norm()) break;
+    }
+    // As stationary as Ipopt's solution (its measured stationarity, its tol
+    // or the round-off floor), the rows held met.
+    if (F.head(n).norm() / scale > std::max({kkt_.stationarity, tol_, kRoundOffMultiple * kkt_.round_off})) return false;
+    for (Index i = 0; i < m; ++i)
+      if (std::abs(F[n + i]) > kPolishRoundOff * speed_scale_) return false;
+    // The inequalities: rows outside them change their set.
+    int changed = 0;
+    for (std::size_t j = 0; j < normal; ++j) {
+      const double rate = dot(nlp_rows_[j], u) - nlp_rows_[j].lower;
+      if (active[j] && N[j] < -kPolishRoundOff * force_scale_) active[j] = 0, N[j] = 0, ++changed;  // tensile
+      else if (!active[j] && rate < -kPolishRoundOff * speed_scale_) active[j] = 1, ++changed;    // penetrating
+    }
+    for (std::size_t k = 0; k < nf; ++k) {
+      const double g = nlp_cost_[k], gk = gamma(k, u);
+      if (pinned[k] && std::abs(gk) > kPolishRoundOff * speed_scale_) {
+        sigma[k] = gk > 0 ? 1.0 : -1.0, ++changed;  // slipping along a die
+      } else if (sigma[k] == 0 && std::abs(T[k]) > g * (1 + kPolishRoundOff)) {
+        sigma[k] = T[k] < 0 ? 1.0 : -1.0, ++changed;  // beyond its bound: slipping against its force
+      } else if (sigma[k] != 0 && sigma[k] * gk < -kPolishRoundOff * speed_scale_) {
+        T[k] = -g * sigma[k], sigma[k] = 0, ++changed;  // slipping against its force: sticking, from its force
+      }
+    }
+    if (changed) continue;
+    // Ipopt's multipliers of the polished solution: -N on the rows in
+    // contact; a sticking row's p = (g - T) / 2, q = (g + T) / 2; a
+    // slipping row's g on its active side.
+    std::vector<double> lambda(out.lambda.size(), 0.0);
+    Vec slack = Vec::Zero(static_cast<Index>(nf));
+    for (std::size_t j = 0; j < normal; ++j)
+      if (active[j]) lambda[j] = -N[j];
+    for (std::size_t k = 0; k < nf; ++k) {
+      const double g = nlp_cost_[k];
+      if (sigma[k] == 0) {
+        lambda[normal + 2 * k] = -0.5 * (g - T[k]);
+        lambda[normal + 2 * k + 1] = -0.5 * (g + T[k]);
+      } else {
+        lambda[normal + 2 * k + (sigma[k] > 0 ? 0 : 1)] = -g;
+        slack[static_cast<Index>(k)] = std::abs(gamma(k, u));
+      }
+    }
+    out.u = u;
+    out.slack = slack;
+    out.lambda = std::move(lambda);
+    out.grad = R;
+    out.grad_scale = scale;
+    return true;
+  }
+  return false;
+}
+
+bool IpoptStepSolver::conclude(const StepView& v, StepProblem& problem, NlpOutcome& out, SolveOutcome& result) {
   // Ipopt's absolute complementarity tolerance (N mm/s) comes from the
   // element forces of the last solve (at the run's first solve: of the
   // point Ipopt starts from). When the forces at the solution are smaller
   // (a first point contact) and the checked complementarity misses
   // kAcceptKkt, it solves once more from its solution with the tolerance
   // of the solution's forces.
-  const auto finite = [&](const NlpOutcome& o) { return o.u.size() == nlp_unknowns_ && o.u.allFinite(); };
+  const auto finite = [&](const NlpOutcome& o) {
+    return o.u.size() == nlp_unknowns_ && o.u.allFinite() && o.slack.size() == static_cast<Index>(nlp_cost_.size()) &&
+           o.slack.allFinite();
+  };
   result.iterations += out.iterations;
   if (finite(out)) {
-    last_scale_ = measure(v, problem, nlp_rows_, row_of, out);
+    last_scale_ = measure(v, problem, out);
     if (out.status == Ipopt::SUCCESS && kkt_.complementarity > kAcceptKkt) {
-      const Vec from = out.u;
+      Vec from(out.u.size() + out.slack.size());
+      from.head(out.u.size()) = out.u;
+      from.tail(out.slack.size()) = out.slack;
       out = optimize(problem, from, last_scale_);
       result.iterations += out.iterations;
-      if (finite(out)) last_scale_ = measure(v, problem, nlp_rows_, row_of, out);
+      if (finite(out)) last_scale_ = measure(v, problem, out);
     }
   }
   if (!finite(out)) {
@@ -271,38 +538,51 @@ NlpOutcome IpoptStepSolver::optimize(StepProblem& problem, const Vec& from, doub
     app_->ReOptimizeTNLP(GetRawPtr(nlp_));
     app_->Options()->SetStringValue("warm_start_same_structure", "no");
   } else {
-    nlp_ = new StepNlp(problem, nlp_rows_, from, force_scale_, speed_scale_, secant_after_cut_, out, lambda);
+    nlp_ = new StepNlp(problem, nlp_rows_, nlp_cost_, from, force_scale_, speed_scale_, secant_after_cut_, out, lambda);
     app_->OptimizeTNLP(GetRawPtr(nlp_));
   }
   return out;
 }
 
-double IpoptStepSolver::measure(const StepView& v, const StepProblem& problem, const std::vector<LinearRow>& rows,
-                                const std::vector<int>& row_of, const NlpOutcome& out) {
-  // The Kuhn-Tucker conditions (paper eq. 6), checked here.
+double IpoptStepSolver::measure(const StepView& v, const StepProblem& problem, const NlpOutcome& out) {
+  // The Kuhn-Tucker conditions (paper eq. 6; for exact friction those of
+  // the slacks' program, ipopt_step_solver.hpp), checked here.
   // R(u) at the solution: Ipopt's last gradient where it was taken there
   // (the same bits as evaluating it again).
   Vec R = out.grad;
   double scale = out.grad_scale;
   if (R.size() != out.u.size()) problem.residual(out.u, R, scale);
   if (!(scale > 0)) scale = 1;
-  Vec stat = R;
-  for (auto& r : *rows_) r.force = 0, r.end_gap = r.kin->gap_from;
+  const Index n = out.u.size();
+  const std::size_t normal = row_of_.size();
+  Vec x(n + out.slack.size()), stat(x.size());
+  x.head(n) = out.u;
+  x.tail(out.slack.size()) = out.slack;
+  stat.head(n) = R;
+  for (std::size_t q = 0; q < nlp_cost_.size(); ++q) stat[n + static_cast<Index>(q)] = nlp_cost_[q];  // g_j
+  for (auto& r : *rows_) r.force = 0, r.end_gap = r.kin->gap_from, r.friction = 0, r.friction_rows = false;
   kkt_ = Kkt{};
-  for (std::size_t j = 0; j < rows.size(); ++j) {
+  for (std::size_t j = 0; j < nlp_rows_.size(); ++j) {
     const double lambda = out.lambda[j];
     double value = 0;
-    for (const auto& [dof, a] : rows[j].terms) {
-      value += a * out.u[dof];
+    for (const auto& [dof, a] : nlp_rows_[j].terms) {
+      value += a * x[dof];
       stat[dof] += a * lambda;
     }
-    BoundRow& r = (*rows_)[row_of[j]];
-    const double slack = value - rows[j].lower;  // mm/s
-    r.force = -lambda;
-    r.end_gap = v.dt * slack;
-    kkt_.primal = std::max(kkt_.primal, std::max(0.0, -r.end_gap) / r.h);
-    kkt_.dual = std::max(kkt_.dual, std::max(0.0, -r.force) / scale);
-    kkt_.complementarity = std::max(kkt_.complementarity, std::abs(r.force * slack) / (scale * speed_scale_));
+    const double slack = value - nlp_rows_[j].lower;  // mm/s
+    BoundRow& r = (*rows_)[j < normal ? row_of_[j] : friction_of_[(j - normal) / 2]];
+    if (j < normal) {
+      r.force = -lambda;
+      r.end_gap = v.dt * slack;
+      kkt_.primal = std::max(kkt_.primal, std::max(0.0, -r.end_gap) / r.h);
+    } else {
+      // T = q - p = lambda_plus - lambda_minus (rows s - gamma_T, s + gamma_T).
+      r.friction += (j - normal) % 2 ? -lambda : lambda;
+      r.friction_rows = true;
+      kkt_.primal = std::max(kkt_.primal, v.dt * std::max(0.0, -slack) / r.h);
+    }
+    kkt_.dual = std::max(kkt_.dual, std::max(0.0, lambda) / scale);
+    kkt_.complementarity = std::max(kkt_.complementarity, std::abs(lambda * slack) / (scale * speed_scale_));
   }
   kkt_.stationarity = stat.norm() / scale;
   // The residual's own round-off: R at u with every component moved by one

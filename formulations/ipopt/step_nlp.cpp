@@ -6,10 +6,12 @@
 
 namespace rpfem {
 
-StepNlp::StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& start, double force_scale,
-                 double speed_scale, bool secant_after_cut, NlpOutcome& out, const std::vector<double>* start_lambda)
-    : problem_(problem), rows_(rows), start_(start), start_lambda_(start_lambda), force_scale_(force_scale),
-      speed_scale_(speed_scale), secant_after_cut_(secant_after_cut), out_(&out) {
+StepNlp::StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const std::vector<double>& slack_cost,
+                 const Vec& start, double force_scale, double speed_scale, bool secant_after_cut, NlpOutcome& out,
+                 const std::vector<double>* start_lambda)
+    : problem_(problem), rows_(rows), slack_cost_(slack_cost), start_(start),
+      n_u_(static_cast<Ipopt::Index>(start.size() - slack_cost.size())), start_lambda_(start_lambda),
+      force_scale_(force_scale), speed_scale_(speed_scale), secant_after_cut_(secant_after_cut), out_(&out) {
   // The Hessian's pattern is the kernel's (fixed within the step): read
   // from the assembler, not assembled (Ipopt's first Hessian is at the
   // start, from the element pass of its first objective).
@@ -18,6 +20,12 @@ StepNlp::StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const
     for (SpMat::InnerIterator it(K, c); it; ++it)
       if (it.row() >= it.col()) lower_.emplace_back(static_cast<Ipopt::Index>(it.row()), static_cast<Ipopt::Index>(it.col()));
   for (const auto& r : rows_) jac_nnz_ += static_cast<Ipopt::Index>(r.terms.size());
+}
+
+double StepNlp::slack_energy(const Ipopt::Number* x) const {
+  double e = 0;
+  for (std::size_t j = 0; j < slack_cost_.size(); ++j) e += slack_cost_[j] * x[n_u_ + static_cast<Ipopt::Index>(j)];
+  return e;
 }
 
 bool StepNlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
@@ -54,11 +62,12 @@ bool StepNlp::eval_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number
   // Ipopt asks for the gradient at the points it accepts, which it has
   // evaluated f at: both from one element pass (the same bits as the two
   // calls, test Conformance.ResidualAndEnergyInOnePassAreTheTwoCallsBits).
-  grad_x_ = map(n, x);
+  (void)n;
+  grad_x_ = velocities(x);
   // The same element pass keeps the consistent tangent's element terms:
   // an accepted trial is where Ipopt asks for the Hessian next.
   problem_.keep_tangent_terms(true);
-  obj_value = problem_.residual_energy(grad_x_, grad_, grad_scale_);
+  obj_value = problem_.residual_energy(grad_x_, grad_, grad_scale_) + slack_energy(x);
   problem_.keep_tangent_terms(false);
   grad_valid_ = true;
   return std::isfinite(obj_value);
@@ -66,11 +75,12 @@ bool StepNlp::eval_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number
 
 bool StepNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number* grad_f) {
   if (new_x || !grad_valid_) {
-    grad_x_ = map(n, x);
+    grad_x_ = velocities(x);
     problem_.residual(grad_x_, grad_, grad_scale_);  // R = dPi/du
     grad_valid_ = true;
   }
-  for (Ipopt::Index i = 0; i < n; ++i) grad_f[i] = grad_[i];
+  for (Ipopt::Index i = 0; i < n_u_; ++i) grad_f[i] = grad_[i];
+  for (Ipopt::Index i = n_u_; i < n; ++i) grad_f[i] = slack_cost_[i - n_u_];  // d(g_j s_j)/ds_j
   return grad_.allFinite();
 }
 
@@ -110,10 +120,12 @@ bool StepNlp::eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::
     for (Ipopt::Index k = 0; k < nele_hess; ++k) iRow[k] = lower_[k].first, jCol[k] = lower_[k].second;
     return true;
   }
-  // The rows are linear: the Lagrangian's Hessian is obj_factor K, the
-  // consistent tangent, or the secant one after an iteration whose line
-  // search cut the step (secant_after_cut, as Newton's: solver/newton.hpp).
-  const SpMat& K = problem_.tangent(map(n, x), !secant_next_);
+  // The rows and the slacks' cost are linear: the Lagrangian's Hessian is
+  // obj_factor K in u (none in the slacks), K the consistent tangent, or
+  // the secant one after an iteration whose line search cut the step
+  // (secant_after_cut, as Newton's: solver/newton.hpp).
+  (void)n;
+  const SpMat& K = problem_.tangent(velocities(x), !secant_next_);
   Ipopt::Index k = 0;
   for (Eigen::Index c = 0; c < K.outerSize(); ++c)
     for (SpMat::InnerIterator it(K, c); it; ++it)
@@ -154,7 +166,8 @@ void StepNlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, cons
                                 const Ipopt::Number* lambda, Ipopt::Number, const Ipopt::IpoptData* ip_data,
                                 Ipopt::IpoptCalculatedQuantities*) {
   out_->status = status;
-  out_->u = map(n, x);
+  out_->u = velocities(x);
+  out_->slack = Eigen::Map<const Vec>(x + n_u_, n - n_u_);
   out_->lambda.assign(lambda, lambda + m);
   out_->iterations = ip_data ? ip_data->iter_count() : 0;
   out_->grad.resize(0);

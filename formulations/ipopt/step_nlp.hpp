@@ -1,10 +1,16 @@
 // One step's velocity field as Ipopt's nonlinear program (TNLP interface):
-//   minimize Pi(u)   (the kernel's functional: StepProblem::energy, its
-//                     gradient R(u) and its sparse consistent Hessian)
-//   subject to  a_j . u >= l_j   (linear contact rows: the gap at the end
-//                                 of the step, over dt, per candidate pair)
-// Exact first and second derivatives, sparse; the rows are constant, so
-// their Hessian is zero and Ipopt is told the Jacobian is constant.
+//   minimize Pi(u) + sum_j g_j s_j
+//                     (the kernel's functional: StepProblem::energy, its
+//                     gradient R(u) and its sparse consistent Hessian; the
+//                     slacks s_j of exact friction, ipopt_step_solver.hpp,
+//                     at their costs g_j)
+//   subject to  a_j . (u, s) >= l_j   (linear rows: the gap at the end of
+//                                 the step, over dt, per candidate pair;
+//                                 s_j >= +-gamma_T,j for exact friction)
+// The unknowns are x = (u, s), the slacks last. Exact first and second
+// derivatives, sparse; the rows are constant and the slacks' cost linear,
+// so the rows' Hessian is zero, the Lagrangian's is Pi's (in u alone), and
+// Ipopt is told the Jacobian is constant.
 // Ipopt's multiplier convention: grad Pi + A^T lambda = 0 with lambda <= 0
 // for an active lower bound, so the row's force is -lambda (N).
 #pragma once
@@ -20,13 +26,14 @@
 namespace rpfem {
 
 struct LinearRow {
-  std::vector<std::pair<Index, double>> terms;  // (reduced dof, coefficient)
-  double lower = 0;                             // a . u >= lower
+  std::vector<std::pair<Index, double>> terms;  // (unknown of x = (u, s), coefficient)
+  double lower = 0;                             // a . x >= lower
 };
 
 struct NlpOutcome {
   Ipopt::SolverReturn status = Ipopt::INTERNAL_ERROR;
   Vec u;                       // solution (reduced unknowns)
+  Vec slack;                   // the slacks' values at the solution (mm/s)
   std::vector<double> lambda;  // row multipliers (Ipopt's sign: <= 0 pressing)
   int iterations = 0;
   // The objective's gradient R(u) at the solution and its element-force
@@ -40,12 +47,15 @@ class StepNlp final : public Ipopt::TNLP {
   // force_scale (N) and speed_scale (mm/s) scale the objective's gradient
   // and the rows to order one (Ipopt's user scaling), so Ipopt's tol is
   // relative to the contact load.
+  // start: x = (u, s), the slacks last, one per entry of slack_cost (N,
+  // the slacks' costs g_j; read at every evaluation, so a re-solve takes
+  // the costs as they are then).
   // start_lambda: the rows' multipliers to start from (Ipopt's warm start,
   // used when its warm_start_init_point option is set), or null.
   // secant_after_cut: the Hessian after an iteration whose line search cut
   // the step is the secant tangent (intermediate_callback, eval_h).
-  StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const Vec& start, double force_scale,
-          double speed_scale, bool secant_after_cut, NlpOutcome& out,
+  StepNlp(StepProblem& problem, const std::vector<LinearRow>& rows, const std::vector<double>& slack_cost,
+          const Vec& start, double force_scale, double speed_scale, bool secant_after_cut, NlpOutcome& out,
           const std::vector<double>* start_lambda = nullptr);
   // The next solve of the same program (Ipopt's ReOptimizeTNLP, which
   // keeps the program's structure and the linear solver's analysis) from
@@ -84,15 +94,20 @@ class StepNlp final : public Ipopt::TNLP {
  private:
   StepProblem& problem_;
   const std::vector<LinearRow>& rows_;
+  const std::vector<double>& slack_cost_;
   Vec start_;
+  Ipopt::Index n_u_ = 0;  // the velocities' unknowns (x's head)
   const std::vector<double>* start_lambda_ = nullptr;
   double force_scale_ = 1, speed_scale_ = 1;
   bool secant_after_cut_ = true;
   NlpOutcome* out_;
   std::vector<std::pair<Ipopt::Index, Ipopt::Index>> lower_;  // (row, col) of the Hessian's lower triangle
   Ipopt::Index jac_nnz_ = 0;
-  Vec map(Ipopt::Index n, const Ipopt::Number* x) const { return Eigen::Map<const Vec>(x, n); }
-  // The gradient at the point of the last eval_f (one element pass gives
+  // The velocities u of x (its head).
+  Vec velocities(const Ipopt::Number* x) const { return Eigen::Map<const Vec>(x, n_u_); }
+  // The slacks' cost sum_j g_j s_j at x.
+  double slack_energy(const Ipopt::Number* x) const;
+  // R(u) at the point of the last eval_f (one element pass gives
   // both: StepProblem::residual_energy), valid until Ipopt's new_x.
   Vec grad_, grad_x_;
   double grad_scale_ = 0;

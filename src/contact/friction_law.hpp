@@ -12,7 +12,9 @@
 // table): no smoothing speed, the slip rate zero where the friction force
 // is below tau_max (stick) and the force tau_max opposing the slip
 // elsewhere (slip), the conditions as complementarity functions solved by
-// the semi-smooth Newton enforcement (formulations/ssn/ncp.hpp).
+// the semi-smooth Newton enforcement (formulations/ssn/ncp.hpp), or the
+// dissipation as a slack per row of Ipopt's program
+// (formulations/ipopt/ipopt_step_solver.hpp).
 #pragma once
 #include <string>
 

@@ -475,3 +475,92 @@ TEST(Ipopt, ReusedMumpsAnalysesGiveTheSameBits) {
               "without reuse; MUMPS's automatic analysis against the pattern's: loads %.1e of the largest apart\n",
               analysed, reused, off.at("mumps_analyses").back(), load / largest);
 }
+
+namespace {
+
+// One case under ssn and under ipopt with exact friction, to `stroke`:
+// the largest relative difference of the die load over the steps, of the
+// ring's inner-diameter change (if `diameter`), the steps whose sticking
+// and slipping rows differ, and whether the last step's stick_slip fields
+// are the same node for node.
+struct ExactPair {
+  double load = 0, diameter = 0;
+  int stick_steps_differing = 0;
+  bool same_last_field = false;
+  double stick_last = 0, slip_last = 0;
+  double ipopt_kkt_friction = 0, ipopt_kkt_stick_slip = 0, ipopt_kkt_primal = 0, ipopt_kkt_complementarity = 0;
+  double ssn_iterations = 0, ipopt_iterations = 0, ipopt_passes = 0, polished = 0;
+  std::size_t steps = 0;
+};
+
+ExactPair exact_pair(const std::string& scene, const std::string& variant, const std::string& stroke, bool diameter) {
+  const std::string set = " --variant " + variant + " --set stepping.end_stroke=" + stroke +
+                          " --set dies.top_die.friction.regularization=exact";
+  const std::string ss = run_case(scene, "--enforcement ssn" + set, 0, "_ssn_" + variant);
+  const std::string ip = run_case(scene, "--enforcement ipopt" + set, 0, "_ipopt_" + variant);
+  const History hs = read_history(ss + "/history.csv"), hi = read_history(ip + "/history.csv");
+  ExactPair out;
+  EXPECT_EQ(hi.rows(), hs.rows()) << scene << " " << variant;
+  out.steps = std::min(hi.rows(), hs.rows());
+  for (std::size_t i = 0; i < out.steps; ++i) {
+    EXPECT_NEAR(hi.at("stroke")[i], hs.at("stroke")[i], 1e-12) << "step " << i;
+    out.load = std::max(out.load, std::abs(hi.at("top_die.Fy")[i] / hs.at("top_die.Fy")[i] - 1));
+    if (diameter && hs.at("inner_diameter_mid")[i] != 0)
+      out.diameter = std::max(out.diameter, std::abs(hi.at("inner_diameter_mid")[i] / hs.at("inner_diameter_mid")[i] - 1));
+    out.stick_steps_differing += hi.at("stick_rows")[i] != hs.at("stick_rows")[i] || hi.at("slip_rows")[i] != hs.at("slip_rows")[i];
+    out.ipopt_kkt_friction = std::max(out.ipopt_kkt_friction, hi.at("kkt_friction")[i]);
+    out.ipopt_kkt_stick_slip = std::max(out.ipopt_kkt_stick_slip, hi.at("kkt_stick_slip")[i]);
+    out.ipopt_kkt_primal = std::max(out.ipopt_kkt_primal, hi.at("kkt_primal")[i]);
+    out.ipopt_kkt_complementarity = std::max(out.ipopt_kkt_complementarity, hi.at("kkt_complementarity")[i]);
+    out.ssn_iterations += hs.at("newton_iterations")[i];
+    out.ipopt_iterations += hi.at("newton_iterations")[i];
+    out.ipopt_passes += hi.at("contact_passes")[i];
+    out.polished += hi.at("polished")[i];
+  }
+  out.stick_last = hs.at("stick_rows").back(), out.slip_last = hs.at("slip_rows").back();
+  const std::vector<int> ks = read_h5_steps(ss + "/result.h5"), ki = read_h5_steps(ip + "/result.h5");
+  if (!ks.empty() && !ki.empty() && ks.back() == ki.back()) {
+    char g[64];
+    std::snprintf(g, sizeof g, "/steps/%06d/node/stick_slip", ks.back());
+    out.same_last_field = read_h5_dataset(ss + "/result.h5", g) == read_h5_dataset(ip + "/result.h5", g);
+  }
+  return out;
+}
+
+}  // namespace
+
+// The two exact enforcements check each other: ipopt's slack rows
+// (formulations/ipopt/ipopt_step_solver.hpp) against ssn's complementarity
+// functions (formulations/ssn/ncp.hpp), to 1 mm of stroke (20 steps): the
+// ring at m = 0.1 (no row sticks: both sides of the neutral radius slip)
+// and m = 1 (a sticking zone), upsetting at mu = 0.1 (every row slips).
+// Die loads and the ring's inner-diameter change within 1e-6, the same
+// rows sticking and slipping at every step, and ipopt's friction law met
+// to 1e-8 of each row's bound.
+TEST(Ipopt, ExactFrictionAgreesWithSsn) {
+  struct Case {
+    std::string scene, variant;
+    bool diameter;
+  };
+  for (const Case& c : {Case{"ring_compression", "m0.1", true}, Case{"ring_compression", "m1", true},
+                        Case{"upsetting_friction", "mu0.1", false}}) {
+    const ExactPair p = exact_pair(c.scene, c.variant, "1.0", c.diameter);
+    const std::string what = c.scene + " " + c.variant;
+    ASSERT_EQ(p.steps, 21u) << what;
+    EXPECT_LT(p.load, 1e-6) << what;
+    if (c.diameter) EXPECT_LT(p.diameter, 1e-6) << what;
+    EXPECT_EQ(p.stick_steps_differing, 0) << what;
+    EXPECT_TRUE(p.same_last_field) << what;
+    EXPECT_LE(p.ipopt_kkt_friction, 1e-8) << what;
+    EXPECT_LE(p.ipopt_kkt_stick_slip, 1e-8) << what;
+    EXPECT_LE(p.ipopt_kkt_primal, 1e-9) << what;
+    EXPECT_LE(p.ipopt_kkt_complementarity, 1e-8) << what;
+    std::printf("[measured] %s to 1 mm, ipopt against ssn (exact friction): load %.2e, inner diameter change %.2e; "
+                "last step %g rows sticking, %g slipping, stick-slip differing in %d of %zu steps; ipopt's kkt_friction "
+                "%.1e, kkt_stick_slip %.1e; Newton iterations %g (ssn), Ipopt iterations %g in %g passes, %g of %zu "
+                "steps polished\n",
+                what.c_str(), p.load, p.diameter, p.stick_last, p.slip_last, p.stick_steps_differing, p.steps,
+                p.ipopt_kkt_friction, p.ipopt_kkt_stick_slip, p.ssn_iterations, p.ipopt_iterations, p.ipopt_passes,
+                p.polished, p.steps);
+  }
+}

@@ -2,9 +2,10 @@
 // enforcement x discretization that applies to it, in-process on tiny
 // scenes (after MFEM's tests/unit/linalg/test_constrainedsolver.cpp, one
 // problem through every constrained solver):
-//   a block pressed between two flat dies (friction: none, factor, Coulomb),
+//   a block pressed between two flat dies (friction: none, factor, Coulomb;
+//   under ipopt also both laws exact),
 //   two stacked blocks with non-matching meshes (contact between bodies;
-//   friction: none, factor, Coulomb),
+//   friction: none, factor, Coulomb; under ipopt also both laws exact),
 //   one element on a floor die with a known multiplier.
 // Each combination must finish with its contact state settled; its contact
 // forces must sum to its die loads (and cancel between bodies); its terms'
@@ -243,35 +244,42 @@ void PrintTo(const Combination& c, std::ostream* os) {
   *os << c.scene << " " << c.enforcement << "+" << c.discretization << " friction " << c.friction;
 }
 
+// A friction table's keys: "factor" or "coulomb", "_exact" for the exact law.
+std::string friction_keys(const std::string& law) {
+  const std::string exact = law.size() > 6 && law.substr(law.size() - 6) == "_exact" ? "regularization = \"exact\"\n" : "";
+  if (law.rfind("factor", 0) == 0) return "law = \"factor\"\nm = 0.3\n" + exact;
+  if (law.rfind("coulomb", 0) == 0) return "law = \"coulomb\"\nmu = 0.2\n" + exact;
+  return "";
+}
+
 std::string scene_text(const Combination& c) {
   if (c.scene == "dies") return die_block(c.friction);
   if (c.scene == "bodies") {
     // Friction between the blocks: the pair's own law.
-    const std::string pair = std::string(kTwoBlocks) + "[contact_pairs.friction]\n";
-    if (c.friction == "factor") return pair + "law = \"factor\"\nm = 0.3\n";
-    if (c.friction == "coulomb") return pair + "law = \"coulomb\"\nmu = 0.2\n";
-    return kTwoBlocks;
+    if (c.friction == "none") return kTwoBlocks;
+    return std::string(kTwoBlocks) + "[contact_pairs.friction]\n" + friction_keys(c.friction);
   }
   return kOneElement;
 }
 
 std::string friction_table(const std::string& law) {
-  if (law == "factor") return "[dies.top.friction]\nlaw = \"factor\"\nm = 0.3\n";
-  if (law == "coulomb") return "[dies.top.friction]\nlaw = \"coulomb\"\nmu = 0.2\n";
-  return "";
+  return law == "none" ? "" : "[dies.top.friction]\n" + friction_keys(law);
 }
 
 std::vector<Combination> combinations() {
   std::vector<Combination> out;
   for (const auto& d : discretizations()) {
     for (const auto& e : formulations()) {
+      // ipopt treats friction by the arctan law (its default) or exactly.
+      std::vector<std::string> laws{"none", "factor", "coulomb"};
+      if (e.name == "ipopt") laws.insert(laws.end(), {"factor_exact", "coulomb_exact"});
       if (e.dies)
-        for (const std::string law : {"none", "factor", "coulomb"}) {
+        for (const std::string& law : laws) {
           out.push_back({"dies", e.name, d.name, law});
           if (law == "none") out.push_back({"multiplier", e.name, d.name, law});
         }
       if (e.bodies && !(e.refuses_overconstrained && d.overconstrains))
-        for (const std::string law : {"none", "factor", "coulomb"}) out.push_back({"bodies", e.name, d.name, law});
+        for (const std::string& law : laws) out.push_back({"bodies", e.name, d.name, law});
     }
   }
   return out;
@@ -727,8 +735,9 @@ TEST(Conformance, SsnJacobianIsTheResidualsDerivative) {
 }
 
 // The friction law's treatment is each enforcement's to accept: the exact
-// law is refused by those that treat friction by the arctan law, and the
-// arctan law by ssn, each with one line naming the key.
+// law is refused by those that treat friction by the arctan law only, and
+// the arctan law by ssn, each with one line naming the key; ipopt takes
+// both.
 TEST(Conformance, FrictionTreatmentAnEnforcementCannotDoIsRefusedByName) {
   const std::string exact = "[dies.top.friction]\nlaw = \"factor\"\nm = 0.3\nregularization = \"exact\"\n";
   const std::string arctan = "[dies.top.friction]\nlaw = \"coulomb\"\nmu = 0.2\nregularization = \"arctan\"\n";
@@ -744,8 +753,10 @@ TEST(Conformance, FrictionTreatmentAnEnforcementCannotDoIsRefusedByName) {
         EXPECT_NE(what.find("dies.top.friction.regularization"), std::string::npos) << what;
         EXPECT_EQ(what.find('\n'), std::string::npos) << what;
       }
-      // ssn treats friction exactly only; the others by the arctan law.
-      EXPECT_EQ(refused, (table == exact) != (e.name == "ssn")) << e.name << ": " << table;
+      // ssn treats friction exactly only, ipopt either way, the others by
+      // the arctan law only.
+      const bool takes = e.name == "ipopt" || (table == exact) == (e.name == "ssn");
+      EXPECT_EQ(refused, !takes) << e.name << ": " << table;
     }
   }
 }
