@@ -19,7 +19,8 @@ meshes through the stroke and the velocity near the contact at the end),
 each with a caption, and a table of the runs (status, steps, wall time,
 time per step, final load, largest penetration). Last, the studies the
 suite ran (study_section.py: per study its figure, what its sweep.json
-concludes and its table). A figure the data do not allow, or that fails,
+concludes and its table; a regularization study's errors against its
+parameter with their observed orders, iterations and wall time). A figure the data do not allow, or that fails,
 is left out with a note. The runs' files are read by results.py, the
 studies' tables by study_results.py.
 

@@ -9,7 +9,12 @@ is in the study's table).
 - convergence: Richardson's error against the size h and the compared load
   against h, the observed order annotated;
 - pareto: the load error against wall time, a marker per formulation, the
-  mesh labelled, the Pareto front drawn."""
+  mesh labelled, the Pareto front drawn;
+- regularization: against a regularization parameter falling to the
+  reference's limit (the friction's smoothing speed against the exact
+  law), log-log, per formulation, the load and monitor errors with their
+  fitted orders, Newton iterations per step and wall time, the reference
+  run's as horizontal lines."""
 import math
 import textwrap
 
@@ -18,9 +23,9 @@ from matplotlib.transforms import blended_transform_factory
 
 from curve_figures import floored
 from plotting import missing_panel, plt, png_bytes
-from study_results import short, size
+from study_results import regularization_groups, short, size
 
-MARKERS = {"direct": "o", "penalty": "s", "auglag": "v", "ipopt": "^"}
+MARKERS = {"direct": "o", "penalty": "s", "auglag": "v", "ipopt": "^", "ssn": "*"}
 NAN = float("nan")
 
 
@@ -69,6 +74,17 @@ SENSITIVITY_PANELS = [
 ]
 
 
+def log_axes(ax, log_y, ylabel, title):
+    """A log x axis; a log y axis, or a linear one from 0; the labels."""
+    ax.set_xscale("log")
+    if log_y:
+        ax.set_yscale("log")
+    else:
+        ax.set_ylim(bottom=0)
+    ax.set(ylabel=ylabel)
+    ax.set_title(title, fontsize=9)
+
+
 def sensitivity_png(s):
     key = s["axes"][0]
     rows = sorted(s["rows"], key=lambda r: r[key])
@@ -93,13 +109,7 @@ def sensitivity_png(s):
         mark_stopped(ax, [r[key] for r in rows if r["finished"] != 1])
         if not drawn:
             missing_panel(ax, "not measured in any finished run")
-        ax.set_xscale("log")
-        if log:
-            ax.set_yscale("log")
-        else:
-            ax.set_ylim(bottom=0)
-        ax.set(ylabel=ylabel)
-        ax.set_title(title, fontsize=9)
+        log_axes(ax, log, ylabel, title)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
     for ax in axes[-1]:
@@ -213,4 +223,92 @@ def pareto_png(s):
     return png_bytes(fig)
 
 
-DRAW = {"sensitivity": sensitivity_png, "convergence": convergence_png, "pareto": pareto_png}
+def group_name(label):
+    """A regularization group's legend: the formulation alone where the
+    label names only it."""
+    return label.split("=", 1)[1] if label.startswith("formulation=") and " " not in label else label
+
+
+def error_panel(ax, s, part, column, ylabel, title):
+    """The errors of one part ("load" or "monitor") against the axis, per
+    group, log-log, the fitted order in the legend; the floor dashed; runs
+    that did not finish marked x."""
+    reg = s["meta"]["regularization"]
+    drawn = False
+    for i, (label, g, rows) in enumerate(regularization_groups(s)):
+        orders = g.get(part)
+        if not orders:
+            continue
+        pts = [(r[reg["axis"]], r[column]) for r in rows if r["finished"] == 1 and r.get(column) is not None]
+        fit = orders.get("fit_order")
+        legend = group_name(label) + (" (order %.2f over %d)" % (fit, orders["fit_points"]) if fit is not None
+                                      else " (no order)")
+        if pts:
+            ax.loglog([p[0] for p in pts], floored([p[1] for p in pts]), "-", color="C%d" % i,
+                      marker=MARKERS.get(group_name(label), "D"), markersize=5, label=legend)
+            drawn = True
+        mark_stopped(ax, [r[reg["axis"]] for r in rows if r["finished"] != 1])
+    if not drawn:
+        missing_panel(ax, "not measured in any finished run")
+        return
+    floor = next((g[part]["floor"] for _, g, _ in regularization_groups(s) if g.get(part)), 0)
+    if floor > 0:
+        ax.axhline(floor, color="k", linestyle="--", linewidth=0.8, label="floor %g" % floor)
+    if reg.get("default", -1) > 0:
+        ax.axvline(reg["default"], color="0.5", linestyle=":", linewidth=1, label="default %g" % reg["default"])
+    log_axes(ax, True, ylabel, title)
+
+
+def cost_panel(ax, s, columns, ylabel, title, log):
+    """Per group, columns [(column, line style, legend)] against the axis; the
+    reference run's values as horizontal lines."""
+    reg, ref = s["meta"]["regularization"], s["meta"].get("reference_run", {})
+    for i, (label, _, rows) in enumerate(regularization_groups(s)):
+        done = [r for r in rows if r["finished"] == 1]
+        for col, style, legend in columns:
+            pts = [(r[reg["axis"]], r[col]) for r in done if r.get(col) is not None]
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], linestyle=style, color="C%d" % i,
+                        marker=MARKERS.get(group_name(label), "D"), markersize=4,
+                        label="%s%s" % (group_name(label), legend))
+    for col, style, legend in columns:
+        if ref.get(col, -1) >= 0 and ref.get("finished"):
+            ax.axhline(ref[col], color="k", linestyle=style, linewidth=0.9,
+                       label="%s (reference)%s" % (ref.get("formulation", ""), legend))
+    log_axes(ax, log, ylabel, title)
+
+
+def regularization_png(s):
+    reg = s["meta"]["regularization"]
+    if not any(rows for _, _, rows in regularization_groups(s)):
+        return None
+    monitor = s["meta"].get("monitor", {})
+    ref = s["meta"].get("reference_run", {}).get("formulation", "the reference")
+    mean = reg.get("load_error") == "mean_load_error"
+    fig, axes = plt.subplots(2, 2, figsize=(10.4, 7.6), dpi=110, sharex=True)
+    error_panel(axes[0, 0], s, "load", reg["load_error"],
+                "|%s load / %s's - 1|" % ("mean" if mean else "final", ref),
+                "%s load error against %s" % ("mean" if mean else "final", ref))
+    if monitor:
+        error_panel(axes[0, 1], s, "monitor", reg["monitor_error"],
+                    "|%s - %s's| (%s)" % (monitor["column"], ref, monitor["unit"]),
+                    "%s at the last stroke against %s" % (monitor["column"], ref))
+    else:
+        missing_panel(axes[0, 1], "the study compares no monitor")
+    cost_panel(axes[1, 0], s, [("iterations_median", "-", " median"), ("iterations_max", ":", " max")],
+               "Newton iterations per step", "iterations per step (step 0 left out)", True)
+    cost_panel(axes[1, 1], s, [("wall_time_s", "-", "")], "wall time (s)", "wall time per run", True)
+    for ax in axes.ravel():
+        ax.grid(True, which="both", alpha=0.3)
+        if ax.lines:
+            ax.legend(fontsize=7)
+    axes[0, 0].invert_xaxis()  # shared: every panel's parameter falls to the right
+    for ax in axes[-1]:
+        ax.set_xlabel("%s (falling to the right)" % short(reg["axis"]))
+    fig.suptitle(textwrap.fill("%s: %s" % (s["study"], s["meta"].get("description", "")), 110), fontsize=10)
+    fig.tight_layout()
+    return png_bytes(fig)
+
+
+DRAW = {"sensitivity": sensitivity_png, "convergence": convergence_png, "pareto": pareto_png,
+        "regularization": regularization_png}

@@ -1,7 +1,8 @@
 """The studies' tables for the suite report (reports/study_section.py): each
 study `rpfem suite` ran, as listed in OUT/suite.json, read from its
 sweep.csv (a row per run) and sweep.json (axes, reference, Richardson's
-estimates, usable window); docs/sweeps.md describes both. A value of -1 in
+estimates, usable window, the reference run's own values, the errors'
+orders along a regularization axis); docs/sweeps.md describes both. A value of -1 in
 sweep.csv was not measured: it is read as None, never as a number."""
 import csv
 import json
@@ -34,14 +35,45 @@ def load_study(out, entry):
         s["error"] = "%s: %s" % (type(e).__name__, e)
         return s
     s["axes"] = [a["key"] for a in s["meta"].get("axes", []) if a["key"] != "formulation"]
+    attach_orders(s)
     return s
 
 
+def attach_orders(s):
+    """Per row, what sweep.json has of the run beyond sweep.csv: the
+    monitor's value at the last stroke (monitor_final, any sign, so not a
+    table column), and along a regularization axis the observed orders of
+    the load and monitor errors between the next larger value and the
+    run's (load_order, monitor_order; None where not measured or for the
+    largest value)."""
+    by_dir = {r["dir"]: r for r in s["rows"]}
+    for r, entry in zip(s["rows"], s["meta"].get("runs", [])):
+        r["monitor_final"] = entry.get("monitor_final")
+    for g in s["meta"].get("regularization", {}).get("groups", []):
+        for part in ("load", "monitor"):
+            pairs = g.get(part, {}).get("successive", [])
+            for d, pair in zip(g["dirs"][1:], pairs):
+                if d in by_dir:
+                    by_dir[d][part + "_order"] = pair.get("order")
+
+
+def regularization_groups(s):
+    """(label, group of sweep.json's regularization, its rows falling along
+    the axis) per group: one per formulation (and other axes' values)."""
+    by_dir = {r["dir"]: r for r in s["rows"]}
+    return [(g["group"], g, [by_dir[d] for d in g["dirs"] if d in by_dir])
+            for g in s["meta"].get("regularization", {}).get("groups", [])]
+
+
 def kind(s):
-    """Which figure a study gets: "pareto" (Richardson per formulation, the
-    formulation an axis: error against wall time), "convergence"
-    (Richardson along a size axis), "sensitivity" (one numeric axis against
-    a reference run), or None (only the table)."""
+    """Which figure a study gets: "regularization" (a [study.regularization]
+    axis: the errors against it per formulation, iterations and wall time),
+    "pareto" (Richardson per formulation, the formulation an axis: error
+    against wall time), "convergence" (Richardson along a size axis),
+    "sensitivity" (one numeric axis against a reference run), or None (only
+    the table)."""
+    if s["meta"].get("regularization"):
+        return "regularization"
     ref = s["meta"].get("reference", {}).get("kind")
     formulation_axis = any(a["key"] == "formulation" for a in s["meta"].get("axes", []))
     if ref == "richardson":

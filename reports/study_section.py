@@ -1,8 +1,11 @@
 """The report's Studies section (reports/make_report.py): for each study
 `rpfem suite` ran (OUT/suite.json, "studies"), its figure
 (study_figures.py), what its sweep.json concludes (Richardson's observed
-order and extrapolated load, the usable window), and a table of its runs
-(sweep.csv's essentials; loads in kN, times in s; "-": not measured). A
+order and extrapolated load, the usable window, a regularization axis's
+observed orders, its errors at the default value and the reference run's
+own cost), and a table of its runs (sweep.csv's essentials; loads in kN,
+times in s; "-": not measured; a regularization study's with the orders
+between successive values and the reference run last). A
 study whose table cannot be read, or whose figure the data do not allow,
 gets a note saying why."""
 import html
@@ -10,15 +13,26 @@ import math
 
 from plotting import draw_or_skip
 from report_html import anchor, figure, html_table, md_table, note
-from study_figures import DRAW, compared, finished, richardson_groups
-from study_results import kind, load_study, short, size
+from study_figures import DRAW, compared, finished, group_name, richardson_groups
+from study_results import kind, load_study, regularization_groups, short, size
 
-ALT = {"sensitivity": "penalty sensitivity", "convergence": "convergence", "pareto": "speed against accuracy"}
+ALT = {"sensitivity": "penalty sensitivity", "convergence": "convergence", "pareto": "speed against accuracy",
+       "regularization": "regularization"}
 
 
 def caption(s, k):
     ref = s["meta"].get("reference", {})
     measure = "mean load over the stroke (work / stroke)" if ref.get("measure") == "mean" else "final load"
+    if k == "regularization":
+        reg, monitor = s["meta"]["regularization"], s["meta"].get("monitor")
+        return ("Against %s, falling to the right (log axes), per formulation: top, the relative difference of the "
+                "%s from the %s reference run's%s, the legend giving the least-squares order over the values above "
+                "the floor (dashed: errors at or below it are not counted); dotted vertical: the default %g. "
+                "Bottom: Newton iterations per step (median, max; step 0 left out) and each run's wall time, the "
+                "reference run's as black lines. x: runs that did not finish."
+                % (short(reg["axis"]), measure, ref.get("formulation", ""),
+                   " and of %s at the last stroke, in %s" % (monitor["column"], monitor["unit"]) if monitor else "",
+                   reg.get("default", -1)))
     if k == "sensitivity":
         w = s["meta"].get("window", {})
         return ("Against %s (log axis): the largest penetration over the element size (dashed: the %g limit); the "
@@ -54,6 +68,71 @@ def coarser_order(hs, fs):
     return math.log((f3 - f2) / (f2 - f1)) / math.log(r)
 
 
+def order_words(orders):
+    """The fitted and successive orders of a part ("load" or "monitor") of a
+    regularization group, as text, and its error at the default value."""
+    fit = orders.get("fit_order")
+    text = ("order %.2f (least squares over the %d values above the floor %g)" % (fit, orders["fit_points"],
+                                                                              orders["floor"])
+            if fit is not None else "no order (fewer than two values above the floor %g)" % orders["floor"])
+    pairs = ", ".join("%.2f" % p["order"] if "order" in p else "-" for p in orders.get("successive", []))
+    return text + "; between successive values %s" % pairs, orders.get("error_at_default", -1)
+
+
+LEVEL = 0.3  # a successive order below it: the error no longer falls with the parameter
+
+
+def levels_off(orders):
+    """The value from which the error no longer falls: the first of the
+    trailing pairs of successive values, two or more, whose measured
+    orders are all below LEVEL; None otherwise."""
+    pairs = orders.get("successive", [])
+    k = len(pairs)
+    while k > 0 and "order" in pairs[k - 1] and pairs[k - 1]["order"] < LEVEL:
+        k -= 1
+    return pairs[k]["from"] if len(pairs) - k >= 2 else None
+
+
+def regularization_findings(s):
+    """Per group: the observed orders, the errors at the default value; the
+    reference run's own cost."""
+    meta, lines = s["meta"], []
+    reg, monitor = meta["regularization"], meta.get("monitor")
+    for label, g, _ in regularization_groups(s):
+        text, at = order_words(g["load"])
+        line = "%s, as %s falls: the %s load error %s." % (group_name(label), short(reg["axis"]),
+                                                            "mean" if reg.get("load_error") == "mean_load_error"
+                                                            else "final", text)
+        flat = [("load", levels_off(g["load"]))]
+        if monitor and g.get("monitor"):
+            mtext, mat = order_words(g["monitor"])
+            line += " The %s error %s." % (monitor["column"], mtext)
+            flat.append((monitor["column"], levels_off(g["monitor"])))
+        else:
+            mat = -1
+        for what, a in flat:
+            if a is not None:
+                line += (" The %s error no longer falls from %s = %g on (successive orders below %g): what is left "
+                         "is not the parameter's, and the least-squares order counts it." % (what, short(reg["axis"]),
+                                                                                             a, LEVEL))
+        if reg.get("default", -1) > 0:
+            line += " At the default %g: load error %s%s." % (
+                reg["default"], "%.2e" % at if at >= 0 else "not measured",
+                (", %s error %s" % (monitor["column"], "%.3g %s" % (mat, monitor["unit"]) if mat >= 0
+                                    else "not measured")) if monitor else "")
+        lines.append(line)
+    r = meta.get("reference_run")
+    if r:
+        text = ("The reference run (%s): %s, %d steps, final load %.4f kN, mean load %.4f kN%s; Newton iterations "
+                "per step median %g, max %g (mean %.1f); wall time %.1f s."
+                % (r["formulation"], "finished" if r["finished"] else "stopped (%s)" % r.get("reason", ""),
+                   r["steps"], r["final_load_kN"], r["mean_load_kN"],
+                   ", %s %.4f" % (monitor["column"], r["monitor_final"]) if monitor and "monitor_final" in r else "",
+                   r["iterations_median"], r["iterations_max"], r["iterations_mean"], r["wall_time_s"]))
+        lines.append(text)
+    return lines
+
+
 def findings(s):
     """Lines of what the study's sweep.json concludes."""
     meta, lines = s["meta"], []
@@ -61,6 +140,8 @@ def findings(s):
     if len(done) < len(s["rows"]):
         lines.append("%d of %d runs did not finish (the reasons are in the notes under the table)."
                      % (len(s["rows"]) - len(done), len(s["rows"])))
+    if meta.get("regularization"):
+        lines += regularization_findings(s)
     ref = meta.get("reference", {})
     for label, g, rows in richardson_groups(s):
         # The group names the other axes' values; "(all runs)" when there are none.
@@ -106,9 +187,40 @@ def cell(r, col, spec):
     return "-" if v is None else spec % v
 
 
+def regularization_table(s):
+    """The columns of a regularization study: per run its errors and their
+    orders as the value falls, the monitor's value, iterations, wall time."""
+    reg, monitor = s["meta"]["regularization"], s["meta"].get("monitor")
+    mean = reg.get("load_error") == "mean_load_error"
+    cols = [("formulation", "formulation", "%s")] if any(a["key"] == "formulation"
+                                                         for a in s["meta"].get("axes", [])) else []
+    cols += [(short(k), k, "%g") for k in s["axes"]]
+    cols += [("finished", "finished", None), ("steps", "steps", "%d"),
+             ("mean load (kN)" if mean else "final load (kN)", "mean_load_kN" if mean else "final_load_kN", "%.3f"),
+             ("mean load error" if mean else "load error", reg["load_error"], "%.2e"),
+             ("load order", "load_order", "%.2f")]
+    if monitor:
+        cols += [("%s (%s)" % (monitor["column"], "%" if monitor["unit"] == "percentage points" else
+                               monitor["unit"]), "monitor_final", "%.4f"),
+                 ("error (%s)" % monitor["unit"], "monitor_error_final", "%.2e"),
+                 ("%s order" % monitor["column"], "monitor_order", "%.2f")]
+    cols += [("iterations median", "iterations_median", "%g"), ("iterations max", "iterations_max", "%g"),
+             ("iterations mean", "iterations_mean", "%.1f"), ("wall time (s)", "wall_time_s", "%.1f"),
+             ("reason", "reason", "%s")]
+    return cols
+
+
 def table(s):
     """Header and rows of the study's table; columns nobody measured left out."""
     ref = s["meta"].get("reference", {})
+    if s["meta"].get("regularization"):
+        # The reference run last, its own values (its errors are zero by definition: not shown).
+        ref_run = s["meta"].get("reference_run")
+        rows = s["rows"] + ([dict({k: None if v == -1 else v for k, v in ref_run.items()},
+                                  formulation=ref_run["formulation"] + " (reference)")] if ref_run else [])
+        cols = regularization_table(s)
+        cols = [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in rows)]
+        return [c[0] for c in cols], [[cell(r, col, spec) for _, col, spec in cols] for r in rows]
     rich = ref.get("kind") == "richardson"
     cols = [("formulation", "formulation", "%s")] if any(a["key"] == "formulation"
                                                          for a in s["meta"].get("axes", [])) else []

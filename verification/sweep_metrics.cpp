@@ -65,6 +65,61 @@ double mean_load(const History& h, const std::string& load, double from) {
   return !s.empty() && s.back() > from ? work / (s.back() - from) : -1.0;
 }
 
+LoadError column_difference(const History& run, const History& ref, const std::string& column, double from) {
+  LoadError e;
+  if (run.rows() < 2 || ref.rows() < 2) return e;
+  const auto &s = run.at("stroke"), &v = run.at(column), &rs = ref.at("stroke"), &rv = ref.at(column);
+  // Strokes past the reference's last are not compared (as curve_difference).
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s[i] >= from && s[i] <= rs.back() + 1e-12)
+      e.largest = std::max(e.largest, std::abs(v[i] - interpolate_linear(rs, rv, s[i])));
+  if (s.back() <= rs.back() + 1e-12) e.final = std::abs(v.back() - interpolate_linear(rs, rv, s.back()));
+  return e;
+}
+
+double mean_load_error(const History& run, const History& ref, const std::string& load, double from) {
+  if (run.rows() < 2 || ref.rows() < 2) return -1;
+  const double end = run.at("stroke").back();
+  if (ref.at("stroke").back() < end - 1e-12) return -1;
+  // The reference's history up to the run's last stroke, its last point interpolated there.
+  History cut;
+  const auto& rs = ref.at("stroke");
+  std::size_t n = 0;
+  while (n < rs.size() && rs[n] < end - 1e-12) ++n;
+  for (const std::string& c : {std::string("stroke"), load}) {
+    std::vector<double> col(ref.at(c).begin(), ref.at(c).begin() + static_cast<long>(n));
+    col.push_back(c == "stroke" ? end : interpolate_linear(rs, ref.at(c), end));
+    cut.data[c] = col;
+  }
+  const double m = mean_load(run, load, from), mr = mean_load(cut, load, from);
+  return m >= 0 && mr > 0 ? std::abs(m / mr - 1) : -1.0;
+}
+
+ObservedOrders observed_orders(std::vector<double> a, std::vector<double> e, double floor) {
+  ObservedOrders o;
+  std::vector<std::size_t> idx(std::min(a.size(), e.size()));
+  std::iota(idx.begin(), idx.end(), 0);
+  std::sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) { return a[i] > a[j]; });
+  for (std::size_t i : idx) o.a.push_back(a[i]), o.e.push_back(e[i]);
+  const std::size_t n = o.a.size();
+  auto usable = [&](std::size_t k) { return o.a[k] > 0 && o.e[k] > floor && o.e[k] > 0; };
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    const bool m = usable(k) && usable(k + 1) && o.a[k] > o.a[k + 1];
+    o.successive.push_back(m ? std::log(o.e[k] / o.e[k + 1]) / std::log(o.a[k] / o.a[k + 1]) : 0.0);
+    o.successive_measured.push_back(m);
+  }
+  // Least squares: p = sum (x - xm)(y - ym) / sum (x - xm)^2, x = ln a, y = ln e.
+  std::vector<double> x, y;
+  for (std::size_t k = 0; k < n; ++k)
+    if (usable(k)) x.push_back(std::log(o.a[k])), y.push_back(std::log(o.e[k]));
+  const double xm = x.empty() ? 0 : std::accumulate(x.begin(), x.end(), 0.0) / x.size();
+  const double ym = y.empty() ? 0 : std::accumulate(y.begin(), y.end(), 0.0) / y.size();
+  double sxy = 0, sxx = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) sxy += (x[k] - xm) * (y[k] - ym), sxx += (x[k] - xm) * (x[k] - xm);
+  if (x.size() >= 2 && sxx > 0) o.fit = sxy / sxx, o.fit_points = static_cast<int>(x.size());
+  return o;
+}
+
 Richardson richardson(std::vector<double> h, std::vector<double> f) {
   Richardson r;
   if (h.size() != f.size() || h.size() < 3) {

@@ -51,9 +51,10 @@ StudyAxis read_axis(CaseSection& a, bool quick) {
     ax.values = quick ? q : v;
     for (const auto& f : ax.values) check_formulation(a, "values", f);
   } else {
-    auto v = a.real_array("values", -1, "the values of " + ax.key);
-    const auto q = has_quick ? a.real_array("quick", -1, "the values of " + ax.key + " under --quick") : v;
-    ax.numbers = quick ? q : v;
+    ax.values_full = a.real_array("values", -1, "the values of " + ax.key);
+    ax.values_quick =
+        has_quick ? a.real_array("quick", -1, "the values of " + ax.key + " under --quick") : ax.values_full;
+    ax.numbers = quick ? ax.values_quick : ax.values_full;
     for (double x : ax.numbers) ax.values.push_back(exact_text(x));
   }
   return ax;
@@ -67,6 +68,7 @@ void read_reference(CaseSection r, Study& st) {
     st.reference_formulation = r.text("formulation", std::nullopt);
     check_formulation(r, "formulation", st.reference_formulation);
     st.reference_set = optional_texts(r, "set", "overrides of the reference run");
+    st.measure = r.choice("measure", std::string("final"), kMeasures);
   } else if (st.reference == StudyReference::Richardson) {
     st.richardson_axis = r.text("axis", std::nullopt);
     if (!has_axis(st, st.richardson_axis)) r.fail("axis", "the key of one of the study's axes");
@@ -87,6 +89,27 @@ void read_window(CaseSection& w, Study& st) {
   if (!has_axis(st, st.window_axis)) w.fail("axis", "the key of one of the study's axes");
   st.window_penetration = w.real("max_penetration_rel", 1e-3, Range::positive());
   st.window_iterations = w.real("max_iterations", 10.0, Range::positive());
+}
+
+// [study.regularization]: a numeric axis of positive values falling to the
+// reference's limit, the value whose errors are stated, the round-off floors.
+void read_regularization(CaseSection& g, Study& st) {
+  if (st.reference != StudyReference::Formulation)
+    g.fail("axis", "a study whose [study.reference] kind is \"formulation\" (the limit its errors fall to)");
+  st.regularization_axis = g.text("axis", std::nullopt);
+  const auto ax = std::find_if(st.axes.begin(), st.axes.end(),
+                               [&](const StudyAxis& x) { return x.key == st.regularization_axis; });
+  if (ax == st.axes.end() || ax->formulation()) g.fail("axis", "the key of one of the study's numeric axes");
+  for (const auto* grid : {&ax->values_full, &ax->values_quick})
+    for (double v : *grid)
+      if (!(v > 0)) g.fail("axis", "an axis of values above 0 (the orders take their logarithm), got " + exact_text(v));
+  if (g.has("default")) {
+    st.regularization_default = g.real("default", std::nullopt, Range::positive());
+    if (std::count(ax->values_full.begin(), ax->values_full.end(), st.regularization_default) == 0)
+      g.fail("default", "one of the axis's values, got " + exact_text(st.regularization_default));
+  }
+  st.load_floor = g.real("floor", 1e-6, Range::nonnegative());
+  st.monitor_floor = g.real("monitor_floor", 1e-6, Range::nonnegative());
 }
 
 }  // namespace
@@ -114,6 +137,11 @@ Study read_study(const std::string& path, const std::string& cases_dir, bool qui
   for (auto& a : axes) st.axes.push_back(read_axis(a, quick));
   read_reference(s.section("reference"), st);
   if (auto w = s.table("window")) read_window(*w, st);
+  if (auto g = s.table("regularization")) read_regularization(*g, st);
+  st.monitor = s.text("monitor", std::string());
+  if (!st.monitor.empty() && st.reference != StudyReference::Formulation)
+    s.fail("monitor", "a study whose [study.reference] kind is \"formulation\" (the monitor is compared against "
+                      "the reference run's)");
   file.finish();
   return st;
 }

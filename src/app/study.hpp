@@ -7,6 +7,10 @@
 //                file path relative to the study file (ending .toml)
 //   formulation  [the case's run.formulation]
 //   load         history column of the load compared, N ("punch.Fy")
+//   monitor      [""] a history column of one of the case's [[monitors]]
+//                ("inner_diameter_mid") compared against the reference
+//                run's at the same strokes, in its own unit (needs a
+//                reference of kind "formulation")
 //   set          [[]] overrides of every run and of the reference ("k=v")
 //   quick_set    [[]] further overrides under --quick
 //   [[study.axis]]  one or more; the grid is their product
@@ -23,14 +27,25 @@
 //                `formulation` (a value of the formulation axis), that
 //                formulation's estimate is every formulation's reference
 //   formulation, set, axis  as above
-//   measure      ["final"] the load Richardson compares: "final", at the
-//                last stroke; "mean", averaged over the strokes from `from`
-//                (work / stroke: smooth where contact spreads node by node)
+//   measure      ["final"] the load compared: "final", at the last
+//                stroke; "mean", averaged over the strokes from `from`
+//                (work / stroke: smooth where contact spreads node by
+//                node). Richardson estimates it; against a reference run
+//                it is the error the regularization's orders are taken of
 //   from         [0] mm: the load error counts strokes from here on
 //   [study.window]  the usable range of one axis (e.g. beta): the runs that
 //   axis         finished with penetration <= max_penetration_rel [1e-3]
 //   max_penetration_rel, max_iterations   and a median over the steps of
 //                at most max_iterations [10] iterations per step
+//   [study.regularization]  an axis whose limit as it falls to 0 is the
+//                reference (the arctan friction law's smoothing speed
+//                against the exact law): the errors' observed orders
+//   axis         a numeric axis, values > 0
+//   default      [none] one of its `values` (the quick grid may leave it
+//                out): the errors there are stated (the case's own value)
+//   floor        [1e-6] relative load errors at or below it are round-off,
+//                left out of the orders
+//   monitor_floor  [1e-6] the same for the monitor's error, in its unit
 #pragma once
 #include <string>
 #include <vector>
@@ -41,6 +56,7 @@ struct StudyAxis {
   std::string key;
   std::vector<std::string> values;  // as written into --set (numbers: exact_text, so integer keys take whole values)
   std::vector<double> numbers;      // empty for "formulation"
+  std::vector<double> values_full, values_quick;  // numbers of either grid (`numbers` is the one in use)
   bool formulation() const { return key == "formulation"; }
 };
 
@@ -64,6 +80,10 @@ struct Study {
   double from = 0;
   std::string window_axis;
   double window_penetration = -1, window_iterations = -1;
+  std::string monitor;
+  std::string regularization_axis;
+  double regularization_default = -1;  // -1: none
+  double load_floor = 1e-6, monitor_floor = 1e-6;
 };
 
 // The study runs one more run, its reference formulation's.

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <toml++/toml.h>
@@ -63,10 +64,22 @@ void grid(SweepPlan& plan) {
   }
 }
 
+// A monitor's values are lengths (mm), or changes from the initial value:
+// relative, or in percent, whose differences are percentage points.
+std::string monitor_unit(const Monitor& m) {
+  switch (m.change) {
+    case Monitor::Change::Percent: return "percentage points";
+    case Monitor::Change::Relative: return "relative change";
+    case Monitor::Change::None: break;
+  }
+  return "mm";
+}
+
 // Each run's case read and validated as `rpfem run` will read it (bad
 // input, the study's load column among them, stops the sweep before it
 // starts), and its end stroke and planned steps for progress lines.
-void plan_run(PoolRun& r, const Study& st) {
+// The study's monitor among the case's too; returns its unit.
+std::string plan_run(PoolRun& r, const Study& st) {
   const PreparedCase pc = prepare_case(r.case_file, r.overrides, r.formulation);
   const auto loads = load_columns(pc);
   if (std::find(loads.begin(), loads.end(), st.load) == loads.end()) {
@@ -75,9 +88,22 @@ void plan_run(PoolRun& r, const Study& st) {
     throw InputError(st.file + ": key 'study.load': '" + st.load + "' is no load column of " + r.label +
                      "; expected one of: " + known);
   }
+  std::string unit;
+  if (!st.monitor.empty()) {
+    const auto m = std::find_if(pc.monitors.begin(), pc.monitors.end(),
+                                [&](const Monitor& x) { return x.name == st.monitor; });
+    if (m == pc.monitors.end()) {
+      std::string known;
+      for (const auto& x : pc.monitors) known += (known.empty() ? "" : ", ") + x.name;
+      throw InputError(st.file + ": key 'study.monitor': '" + st.monitor + "' is no monitor of " + r.label +
+                       "; expected one of: " + (known.empty() ? "(the case has none)" : known));
+    }
+    unit = monitor_unit(*m);
+  }
   r.end_stroke = pc.scene->stepping.end_stroke;
   r.steps = pc.scene->stepping.planned_steps();
   r.cost = estimated_cost(r.steps, pc.scene->mesh.num_elements());
+  return unit;
 }
 
 History history_or_empty(const std::string& dir) {
@@ -106,8 +132,11 @@ toml::array to_array(const std::vector<T>& v) {
 struct Outcome {
   RunMetrics m;
   LoadError err;
+  LoadError monitor_err;        // the study's monitor against the reference's, in its unit
+  double mean_load_error = -1;  // |mean load / the reference's - 1|
   bool finished = false;
   double mean_load = -1;  // kN, over the strokes from the study's `from`
+  std::optional<double> monitor_final;  // the monitor at the last stroke (any sign: not a table column)
   double per_step = -1;   // s, the summary's time per step
   std::string formulation, reason;
 };
@@ -115,8 +144,14 @@ struct Outcome {
 Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
   Outcome o;
   const History h = history_or_empty(r.dir);
+  const bool monitored = !st.monitor.empty() && h.data.count(st.monitor) > 0;
   if (h.rows() > 0) o.m = run_metrics(h, st.load), o.mean_load = mean_load(h, st.load, st.from);
-  if (ref.rows() > 1 && h.rows() > 1) o.err = load_error(h, ref, st.load, st.from);
+  if (h.rows() > 0 && monitored) o.monitor_final = h.at(st.monitor).back();
+  if (ref.rows() > 1 && h.rows() > 1) {
+    o.err = load_error(h, ref, st.load, st.from);
+    o.mean_load_error = mean_load_error(h, ref, st.load, st.from);
+    if (monitored && ref.data.count(st.monitor)) o.monitor_err = column_difference(h, ref, st.monitor, st.from);
+  }
   const Summary s(r.dir);
   const auto status = s.string("status");
   o.finished = status.value_or("") == "finished" && r.rc == 0;
@@ -145,6 +180,55 @@ std::vector<Outcome> outcomes(const SweepPlan& plan) {
   std::vector<Outcome> out(plan.index.size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = outcome(plan.runs[i], st, ref);
   return out;
+}
+
+// The reference run's own outcome (its errors not measured).
+Outcome reference_outcome(const SweepPlan& plan) { return outcome(plan.runs.back(), plan.study, History{}); }
+
+// Along the regularization axis, per combination of the other axes (the
+// formulation among them): each run's errors as the value falls, their
+// observed orders (sweep_metrics.hpp) and the errors at the default value.
+struct RegularizationGroup {
+  std::string label;  // the other axes' values
+  std::vector<std::size_t> runs;  // falling along the axis
+  ObservedOrders load, monitor;
+  double load_at_default = -1, monitor_at_default = -1;
+};
+
+std::vector<RegularizationGroup> regularization_groups(const SweepPlan& plan, const std::vector<Outcome>& out) {
+  const Study& st = plan.study;
+  const std::size_t ax = axis_index(st, st.regularization_axis);
+  std::map<std::vector<std::size_t>, std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    auto key = plan.index[i];
+    key[ax] = 0;
+    groups[key].push_back(i);
+  }
+  auto value = [&](std::size_t i) { return st.axes[ax].numbers[plan.index[i][ax]]; };
+  std::vector<RegularizationGroup> list;
+  for (auto& [key, members] : groups) {
+    RegularizationGroup g;
+    for (std::size_t a = 0; a < st.axes.size(); ++a)
+      if (a != ax)
+        g.label += (g.label.empty() ? "" : " ") + (st.axes[a].formulation() ? "formulation" : st.axes[a].key) + "=" +
+                   st.axes[a].values[key[a]];
+    if (g.label.empty()) g.label = "(all runs)";
+    std::sort(members.begin(), members.end(), [&](std::size_t i, std::size_t j) { return value(i) > value(j); });
+    g.runs = members;
+    // A run that stopped is not compared: its errors are at another stroke.
+    std::vector<double> a, el, em;
+    for (std::size_t i : members) {
+      const double load = st.measure == LoadMeasure::Mean ? out[i].mean_load_error : out[i].err.final;
+      a.push_back(value(i));
+      el.push_back(out[i].finished ? load : -1.0);
+      em.push_back(out[i].finished ? out[i].monitor_err.final : -1.0);
+      if (value(i) == st.regularization_default) g.load_at_default = el.back(), g.monitor_at_default = em.back();
+    }
+    g.load = observed_orders(a, el, st.load_floor);
+    g.monitor = observed_orders(a, em, st.monitor_floor);
+    list.push_back(g);
+  }
+  return list;
 }
 
 // Richardson: along the size axis, per combination of the other axes;
@@ -192,6 +276,31 @@ std::vector<RichardsonGroup> richardson_groups(const SweepPlan& plan, std::vecto
   return rich;
 }
 
+// What a run measured, as a row of the table (and the reference run's own
+// values in sweep.json), by column name.
+std::map<std::string, double> measured(const Outcome& o, const PoolRun& r) {
+  return {{"exit_code", double(r.rc)},
+          {"finished", o.finished ? 1.0 : 0.0},
+          {"steps", double(o.m.steps)},
+          {"final_stroke_mm", o.m.final_stroke},
+          {"final_load_kN", o.m.final_load},
+          {"mean_load_kN", o.mean_load},
+          {"penetration_rel", o.m.penetration},
+          {"load_error", o.err.largest},
+          {"load_error_final", o.err.final},
+          {"mean_load_error", o.mean_load_error},
+          {"monitor_error", o.monitor_err.largest},
+          {"monitor_error_final", o.monitor_err.final},
+          {"volume_error", o.m.volume_error},
+          {"iterations_mean", o.m.iterations_mean},
+          {"iterations_median", o.m.iterations_median},
+          {"iterations_max", o.m.iterations_max},
+          {"iterations_per_solve_median", o.m.iterations_per_solve_median},
+          {"rcond", o.m.rcond},
+          {"wall_time_s", r.seconds},
+          {"time_per_step_s", o.per_step}};
+}
+
 // The table: a row per grid run, its axis values and measured outcome.
 Table sweep_table(const SweepPlan& plan, const std::vector<Outcome>& out) {
   const Study& st = plan.study;
@@ -201,29 +310,15 @@ Table sweep_table(const SweepPlan& plan, const std::vector<Outcome>& out) {
   for (const auto& a : st.axes)
     if (!a.formulation()) t.columns.push_back(a.key);
   for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "mean_load_kN",
-                        "penetration_rel", "load_error", "load_error_final", "volume_error", "iterations_mean",
-                        "iterations_median", "iterations_max", "iterations_per_solve_median", "rcond", "wall_time_s", "time_per_step_s", "reason"})
+                        "penetration_rel", "load_error", "load_error_final", "mean_load_error", "monitor_error",
+                        "monitor_error_final", "volume_error", "iterations_mean", "iterations_median",
+                        "iterations_max", "iterations_per_solve_median", "rcond", "wall_time_s", "time_per_step_s",
+                        "reason"})
     t.columns.push_back(c);
   for (std::size_t i = 0; i < out.size(); ++i) {
     const Outcome& o = out[i];
-    std::map<std::string, double> n{{"run", double(i)},
-                                    {"exit_code", double(runs[i].rc)},
-                                    {"finished", o.finished ? 1.0 : 0.0},
-                                    {"steps", double(o.m.steps)},
-                                    {"final_stroke_mm", o.m.final_stroke},
-                                    {"final_load_kN", o.m.final_load},
-                                    {"mean_load_kN", o.mean_load},
-                                    {"penetration_rel", o.m.penetration},
-                                    {"load_error", o.err.largest},
-                                    {"load_error_final", o.err.final},
-                                    {"volume_error", o.m.volume_error},
-                                    {"iterations_mean", o.m.iterations_mean},
-                                    {"iterations_median", o.m.iterations_median},
-                                    {"iterations_max", o.m.iterations_max},
-                                    {"iterations_per_solve_median", o.m.iterations_per_solve_median},
-                                    {"rcond", o.m.rcond},
-                                    {"wall_time_s", runs[i].seconds},
-                                    {"time_per_step_s", o.per_step}};
+    std::map<std::string, double> n = measured(o, runs[i]);
+    n["run"] = double(i);
     for (std::size_t a = 0; a < st.axes.size(); ++a)
       if (!st.axes[a].formulation()) n[st.axes[a].key] = st.axes[a].numbers[plan.index[i][a]];
     t.add_row(n, {{"dir", fs::relative(runs[i].dir, plan.options.out_dir).string()}, {"formulation", o.formulation},
@@ -246,9 +341,37 @@ std::vector<double> usable_values(const SweepPlan& plan, const std::vector<Outco
   return usable;
 }
 
+// The errors of a group as the regularization value falls, and their orders.
+toml::table orders_record(const ObservedOrders& o, double at_default, double floor) {
+  toml::array pairs;
+  for (std::size_t k = 0; k < o.successive.size(); ++k) {
+    toml::table p{{"from", o.a[k]}, {"to", o.a[k + 1]}};
+    if (o.successive_measured[k]) p.insert("order", o.successive[k]);
+    pairs.push_back(p);
+  }
+  toml::table t{{"errors", to_array(o.e)}, {"floor", floor}, {"successive", pairs}, {"fit_points", o.fit_points},
+                {"error_at_default", at_default}};
+  if (o.fit_measured()) t.insert("fit_order", o.fit);
+  return t;
+}
+
+// The reference run's own values (the table's columns; its errors -1):
+// what the reference solution costs.
+toml::table reference_record(const SweepPlan& plan, const Outcome& o) {
+  const PoolRun& r = plan.runs.back();
+  toml::table t{{"dir", fs::relative(r.dir, plan.options.out_dir).string()},
+                {"formulation", o.formulation},
+                {"reason", o.reason}};
+  for (const auto& [k, v] : measured(o, r)) t.insert(k, v);
+  if (o.monitor_final) t.insert("monitor_final", *o.monitor_final);
+  return t;
+}
+
 // sweep.json: the study, every run's overrides, Richardson's estimates,
-// the usable window, version and timings.
-toml::table sweep_record(const SweepPlan& plan, const std::vector<RichardsonGroup>& rich,
+// the usable window, the reference run's own values, the regularization's
+// orders, version and timings.
+toml::table sweep_record(const SweepPlan& plan, const std::vector<Outcome>& out,
+                         const std::vector<RichardsonGroup>& rich, const std::vector<RegularizationGroup>& reg,
                          const std::vector<double>& usable) {
   const Study& st = plan.study;
   const SweepOptions& opt = plan.options;
@@ -257,9 +380,12 @@ toml::table sweep_record(const SweepPlan& plan, const std::vector<RichardsonGrou
   for (const auto& r : runs) runs_time += r.seconds;
   toml::array axes, run_list, rich_list;
   for (const auto& a : st.axes) axes.push_back(toml::table{{"key", a.key}, {"values", to_array(a.values)}});
-  for (std::size_t i = 0; i < plan.index.size(); ++i)
-    run_list.push_back(toml::table{{"dir", fs::relative(runs[i].dir, opt.out_dir).string()},
-                                   {"formulation", runs[i].formulation}, {"overrides", to_array(runs[i].overrides)}});
+  for (std::size_t i = 0; i < plan.index.size(); ++i) {
+    toml::table r{{"dir", fs::relative(runs[i].dir, opt.out_dir).string()},
+                  {"formulation", runs[i].formulation}, {"overrides", to_array(runs[i].overrides)}};
+    if (out[i].monitor_final) r.insert("monitor_final", *out[i].monitor_final);
+    run_list.push_back(r);
+  }
   for (const auto& g : rich)
     rich_list.push_back(toml::table{{"group", g.label}, {"ok", g.r.ok}, {"observed_order", g.r.ok ? g.r.order : -1.0},
                                     {"extrapolated_load_kN", g.r.ok ? g.r.extrapolated : -1.0},
@@ -283,6 +409,25 @@ toml::table sweep_record(const SweepPlan& plan, const std::vector<RichardsonGrou
                    {"wall_time_s", seconds_since(plan.start)},
                    {"runs_time_s", runs_time}};
   if (!rich.empty()) meta.insert("richardson", rich_list);
+  if (!st.monitor.empty()) meta.insert("monitor", toml::table{{"column", st.monitor}, {"unit", plan.monitor_unit}});
+  if (has_reference_run(st)) meta.insert("reference_run", reference_record(plan, reference_outcome(plan)));
+  if (!st.regularization_axis.empty()) {
+    toml::array groups;
+    for (const auto& g : reg) {
+      toml::array dirs;
+      for (std::size_t i : g.runs) dirs.push_back(fs::relative(runs[i].dir, opt.out_dir).string());
+      toml::table e{{"group", g.label}, {"values", to_array(g.load.a)}, {"dirs", dirs},
+                    {"load", orders_record(g.load, g.load_at_default, st.load_floor)}};
+      if (!st.monitor.empty()) e.insert("monitor", orders_record(g.monitor, g.monitor_at_default, st.monitor_floor));
+      groups.push_back(e);
+    }
+    meta.insert("regularization",
+                toml::table{{"axis", st.regularization_axis},
+                            {"default", st.regularization_default},
+                            {"load_error", st.measure == LoadMeasure::Mean ? "mean_load_error" : "load_error_final"},
+                            {"monitor_error", st.monitor.empty() ? "" : "monitor_error_final"},
+                            {"groups", groups}});
+  }
   if (!st.window_axis.empty()) {
     toml::table w{{"axis", st.window_axis}, {"max_penetration_rel", st.window_penetration},
                   {"max_iterations", st.window_iterations}, {"usable", to_array(usable)}};
@@ -296,12 +441,34 @@ toml::table sweep_record(const SweepPlan& plan, const std::vector<RichardsonGrou
   return meta;
 }
 
-// The summary lines: runs and stops, Richardson's estimates, the window.
+// "order 1.02 (fit over 5 values)" or "no order (fewer than two errors above 1e-06)".
+std::string order_text(const ObservedOrders& o, double floor) {
+  char b[96];
+  if (o.fit_measured())
+    std::snprintf(b, sizeof b, "order %.2f (fit over %d values)", o.fit, o.fit_points);
+  else
+    std::snprintf(b, sizeof b, "no order (fewer than two errors above %g)", floor);
+  return b;
+}
+
+// The summary lines: runs and stops, the regularization's orders,
+// Richardson's estimates, the window.
 void print_sweep(const SweepPlan& plan, long stopped, const std::vector<RichardsonGroup>& rich,
-                 const std::vector<double>& usable) {
+                 const std::vector<RegularizationGroup>& reg, const std::vector<double>& usable) {
   const Study& st = plan.study;
   std::printf("%s: %zu runs, %ld stopped; table %s/sweep.csv\n", st.name.c_str(), plan.index.size(), stopped,
               plan.options.out_dir.c_str());
+  for (const auto& g : reg) {
+    std::printf("  %s as %s falls: load error %s", g.label.c_str(), st.regularization_axis.c_str(),
+                order_text(g.load, st.load_floor).c_str());
+    if (!st.monitor.empty())
+      std::printf(", %s error %s", st.monitor.c_str(), order_text(g.monitor, st.monitor_floor).c_str());
+    if (g.load_at_default >= 0) {
+      std::printf("; at %g: %.2e", st.regularization_default, g.load_at_default);
+      if (g.monitor_at_default >= 0) std::printf(", %.3g %s", g.monitor_at_default, plan.monitor_unit.c_str());
+    }
+    std::printf("\n");
+  }
   for (const auto& g : rich) {
     if (g.r.ok)
       std::printf("  Richardson %s: observed order %.3f, extrapolated %s load %.6g kN\n", g.label.c_str(), g.r.order,
@@ -336,7 +503,7 @@ SweepPlan plan_sweep(const SweepOptions& opt) {
     ref.overrides.insert(ref.overrides.end(), opt.overrides.begin(), opt.overrides.end());
     plan.runs.push_back(ref);
   }
-  for (auto& r : plan.runs) plan_run(r, st);
+  for (auto& r : plan.runs) plan.monitor_unit = plan_run(r, st);
   return plan;
 }
 
@@ -356,16 +523,18 @@ int write_sweep(const SweepPlan& plan) {
   std::vector<Outcome> out = outcomes(plan);
   std::vector<RichardsonGroup> rich;
   if (plan.study.reference == StudyReference::Richardson) rich = richardson_groups(plan, out);
+  std::vector<RegularizationGroup> reg;
+  if (!plan.study.regularization_axis.empty()) reg = regularization_groups(plan, out);
   const Table t = sweep_table(plan, out);
   const std::vector<double> usable = usable_values(plan, out);
   std::ostringstream js;
-  js << toml::json_formatter{sweep_record(plan, rich, usable)} << "\n";
+  js << toml::json_formatter{sweep_record(plan, out, rich, reg, usable)} << "\n";
   write_table_csv(opt.out_dir + "/sweep.csv", t);
   write_table_h5(opt.out_dir + "/sweep.h5", t, js.str());
   write_text_atomically(opt.out_dir + "/sweep.json", js.str());
 
   const auto stopped = std::count_if(out.begin(), out.end(), [](const Outcome& o) { return !o.finished; });
-  if (!opt.quiet) print_sweep(plan, static_cast<long>(stopped), rich, usable);
+  if (!opt.quiet) print_sweep(plan, static_cast<long>(stopped), rich, reg, usable);
   return static_cast<int>(stopped);
 }
 

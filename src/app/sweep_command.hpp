@@ -5,7 +5,9 @@
 //   OUT/reference/       the reference run, if the study names one
 //   OUT/sweep.csv, OUT/sweep.h5   the table (io/table_writer.hpp)
 //   OUT/sweep.json       the study, every override used, Richardson's
-//                        estimates, the usable window, version, timings
+//                        estimates, the usable window, the reference run's
+//                        own values, the errors' observed orders along a
+//                        regularization axis, version, timings
 // `rpfem suite` runs its studies through plan_sweep and write_sweep, their
 // runs on the suite's own pool.
 #pragma once
@@ -35,6 +37,7 @@ struct SweepPlan {
   Study study;
   std::vector<std::vector<std::size_t>> index;  // per grid run, its value's index on each axis
   std::vector<PoolRun> runs;                    // the grid's, then the reference
+  std::string monitor_unit;                     // the study's monitor's (io/monitors.hpp: mm, percentage points, ...)
   std::chrono::steady_clock::time_point start;
 };
 

@@ -2,13 +2,16 @@
 // Python (--no-report): each study's table in OUT/studies/NAME, the same
 // table `rpfem sweep` writes; the suite's --set does not reach a study;
 // --scene and --study select them; a study's grid run that stops is in its
-// table and leaves the exit code 0, its reference run stopping gives 3.
-// Tiny runs of the flat-die upsetting (4 x 4 elements, 0.2 mm): about 5 s.
+// table and leaves the exit code 0, its reference run stopping gives 3; a
+// regularization study's monitor errors, orders and reference run.
+// Tiny runs of the flat-die upsetting (4 x 4 elements, 0.2 mm) and of the
+// upsetting with friction (4 x 4, 1 mm): about 6 s.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "core/types.hpp"
@@ -147,4 +150,70 @@ TEST(SuiteStudies, SceneAndStudySelection) {
   r = run_rpfem("suite --cases " + cases + " --out " + root + "/d --study nosuch" + kSceneRuns, root + "/d.log");
   EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.output.find("no study 'nosuch'"), std::string::npos) << r.output;
+}
+
+// The friction's smoothing a against the exact law (ssn) on the upsetting
+// with Coulomb friction, 4 x 4 elements to 1 mm under direct: the load and
+// the top corner's radius converge with order 1 as a falls (0.97 and 0.97
+// from a = 0.1 to 1e-3), the reference run's own values are in sweep.json.
+TEST(SuiteStudies, ARegularizationStudysErrorsOrdersAndReference) {
+  const std::string root = accept::test_out_dir();
+  const std::string cases = root + "/cases";
+  fs::create_directories(cases + "/studies");
+  fs::copy_file(std::string(RPFEM_SOURCE_DIR) + "/cases/upsetting_friction.toml", cases + "/upsetting_friction.toml");
+  std::ofstream(cases + "/studies/smoothing.toml") << R"([study]
+case = "upsetting_friction"
+load = "top_die.Fy"
+monitor = "top_corner_radius"
+set = ["dies.top_die.friction.law=coulomb", "dies.top_die.friction.mu=0.1", "stepping.end_stroke=1.0",
+       "run.mesh_factor=0.2"]
+[[study.axis]]
+key = "formulation"
+values = ["direct"]
+[[study.axis]]
+key = "dies.top_die.friction.a"
+values = [1e-1, 1e-2, 1e-3]
+[study.reference]
+kind = "formulation"
+formulation = "ssn"
+[study.regularization]
+axis = "dies.top_die.friction.a"
+default = 1e-2
+)";
+  const Result r = run_rpfem("suite --cases " + cases + " --out " + root + "/o --scene upsetting_friction --no-variants"
+                             " --study smoothing" + kSceneRuns, root + "/suite.log");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  const std::string dir = root + "/o/studies/smoothing";
+  // Errors against the reference run at every a, falling by about 10 per decade.
+  for (const char* c : {"load_error_final", "mean_load_error", "monitor_error", "monitor_error_final"}) {
+    const auto e = column(dir, c);
+    ASSERT_EQ(e.size(), 3u) << c;
+    EXPECT_GT(e[0], 5 * e[1]) << c;
+    EXPECT_GT(e[1], 5 * e[2]) << c;
+    EXPECT_GT(e[2], 0.0) << c;
+  }
+  // sweep.json: the load's and the monitor's fitted orders, the errors at
+  // the default, the monitor's unit, the reference run's own values.
+  const std::string meta = text(dir + "/sweep.json");
+  const std::regex fit("\"fit_order\" : ([-0-9.eE+]+)");
+  int orders = 0;
+  for (auto m = std::sregex_iterator(meta.begin(), meta.end(), fit); m != std::sregex_iterator(); ++m, ++orders)
+    EXPECT_NEAR(std::stod((*m)[1]), 1.0, 0.1) << meta;
+  EXPECT_EQ(orders, 2) << meta;
+  EXPECT_NE(meta.find("\"unit\" : \"mm\""), std::string::npos) << meta;
+  EXPECT_NE(meta.find("\"load_error\" : \"load_error_final\""), std::string::npos);
+  const std::regex at_default("\"error_at_default\" : ([-0-9.eE+]+)");
+  const auto loads = column(dir, "load_error_final"), radii = column(dir, "monitor_error_final");
+  std::vector<double> at;
+  for (auto m = std::sregex_iterator(meta.begin(), meta.end(), at_default); m != std::sregex_iterator(); ++m)
+    at.push_back(std::stod((*m)[1]));
+  ASSERT_EQ(at.size(), 2u) << meta;
+  EXPECT_DOUBLE_EQ(at[0], loads[1]);  // a = 1e-2, the second value
+  EXPECT_DOUBLE_EQ(at[1], radii[1]);
+  const auto ref = meta.find("\"reference_run\"");
+  ASSERT_NE(ref, std::string::npos) << meta;
+  const std::string reference = meta.substr(ref, meta.find('}', ref) - ref);  // a flat table
+  for (const char* k : {"\"formulation\" : \"ssn\"", "\"finished\" : 1.0", "\"iterations_median\"",
+                        "\"wall_time_s\"", "\"monitor_final\""})
+    EXPECT_NE(reference.find(k), std::string::npos) << k << " in " << reference;
 }

@@ -2,8 +2,8 @@
 # `rpfem sweep` end to end on a small study (flat-die upsetting, penalty at
 # three betas against ipopt, two meshes for Richardson's refusal): the table
 # in CSV and HDF5 with a row per run and the measured columns, the usable
-# window in sweep.json; and a bad study file gives exit 2 naming the file
-# and the key.
+# window in sweep.json, a regularization axis read against a reference run;
+# and a bad study file gives exit 2 naming the file and the key.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -87,4 +87,28 @@ sed 's/formulations.penalty.beta_factor/formulations.penalty.beta_factr/g' "$tmp
 err=$("$rpfem" sweep "$tmp/axis.toml" --out "$tmp/bad5" 2>&1); rc=$?
 check "an axis key the case does not know: exit 2 before any run ($err)" \
   '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "beta_factr" && [ ! -d "$tmp/bad5/runs" ]'
+# A monitor the case lacks, a regularization axis without a reference run or
+# off the axes, a default off the axis's values: exit 2 naming the key.
+printf 'monitor = "nosuch"\n' > "$tmp/monitor_line"
+sed "/^load = /r $tmp/monitor_line" "$tmp/study.toml" > "$tmp/monitor.toml"
+err=$("$rpfem" sweep "$tmp/monitor.toml" --out "$tmp/bad6" 2>&1); rc=$?
+check "a monitor the case lacks: exit 2 before any run ($err)" \
+  '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.monitor" && [ ! -d "$tmp/bad6/runs" ]'
+printf '[study.regularization]\naxis = "formulations.penalty.beta_factor"\ndefault = 1.0\n' > "$tmp/reg_table"
+cat "$tmp/study.toml" "$tmp/reg_table" > "$tmp/reg.toml"
+"$rpfem" sweep "$tmp/reg.toml" --out "$tmp/reg" --quick --quiet; rc=$?
+check "a regularization axis against a reference run: read ($rc)" \
+  '[ $rc -eq 0 ] && grep -q "\"regularization\"" "$tmp/reg/sweep.json"'
+sed 's/^default = 1.0/default = 3.0/' "$tmp/reg.toml" > "$tmp/reg_default.toml"
+err=$("$rpfem" sweep "$tmp/reg_default.toml" --out "$tmp/bad7" 2>&1); rc=$?
+check "a regularization default off the axis's values: exit 2 ($err)" \
+  '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.regularization.default"'
+sed '/^\[study.regularization\]/,$ s/^axis = .*/axis = "solver.alpha"/' "$tmp/reg.toml" > "$tmp/reg_axis.toml"
+err=$("$rpfem" sweep "$tmp/reg_axis.toml" --out "$tmp/bad8" 2>&1); rc=$?
+check "a regularization axis that is not one of the study's: exit 2 ($err)" \
+  '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.regularization.axis"'
+sed -e 's/^kind = "formulation"/kind = "none"/' -e '/^formulation = "ipopt"/d' "$tmp/reg.toml" > "$tmp/reg_none.toml"
+err=$("$rpfem" sweep "$tmp/reg_none.toml" --out "$tmp/bad9" 2>&1); rc=$?
+check "a regularization axis without a reference run: exit 2 ($err)" \
+  '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "study.regularization.axis" && printf "%s" "$err" | grep -q "formulation"'
 exit $fail

@@ -1,7 +1,9 @@
 // What a sweep measures (verification/sweep_metrics.*) and its table
 // (io/table_writer.*): Richardson's estimate on a known expansion, the
-// per-run metrics of a small history, the load error against a reference,
-// the mean load over a stroke, and the table read back from CSV and HDF5.
+// per-run metrics of a small history, the load and monitor errors against
+// a reference, the mean load over a stroke, the observed order of errors
+// of a known order as a regularization parameter falls, and the table read
+// back from CSV and HDF5.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -88,6 +90,80 @@ TEST(SweepMetrics, MeanLoadIsTheWorkOverTheStrokeFromAStroke) {
   // From 1.5 mm: the first interval cut there (|F| 1.5 kN).
   EXPECT_NEAR(mean_load(h, "F", 1.5), (0.5 * (1.5 + 2) * 0.5 + landing + 3 * 1.9999) / 2.5, 1e-12);
   EXPECT_EQ(mean_load(h, "F", 4.0), -1.0);  // nothing past the last stroke
+}
+
+TEST(SweepMetrics, MonitorDifferenceInItsOwnUnitAtTheRunsStrokes) {
+  // A monitor in % against the reference's, interpolated at the run's strokes.
+  History ref = history({0, 1, 2, 3, 4}, {0, -1, -2, -3, -4}, {1, 1, 1, 1, 1});
+  ref.data["d"] = {0, -10, -20, -30, -40};
+  History run = history({0, 1.5, 4}, {0, -1.5, -4}, {1, 1, 1});
+  run.data["d"] = {0, -15.5, -40.25};
+  const LoadError all = column_difference(run, ref, "d", 0.0), late = column_difference(run, ref, "d", 2.0);
+  EXPECT_NEAR(all.largest, 0.5, 1e-12);  // percentage points, at 1.5 mm
+  EXPECT_NEAR(late.largest, 0.25, 1e-12);
+  EXPECT_NEAR(all.final, 0.25, 1e-12);
+  // A run past the reference's last stroke: its last stroke is not compared.
+  History longer = run;
+  longer.data["stroke"].back() = 5.0;
+  EXPECT_EQ(column_difference(longer, ref, "d", 0.0).final, -1.0);
+}
+
+TEST(SweepMetrics, MeanLoadErrorOverTheRunsStrokes) {
+  // The reference |F| = s kN; the run's 1 % above it: the mean loads too.
+  const History ref = history({0, 1, 2, 3, 4}, {0, -1000, -2000, -3000, -4000}, {1, 1, 1, 1, 1});
+  const History run = history({0, 0.5, 2.5}, {0, -505, -2525}, {1, 1, 1});
+  // The reference cut at 2.5 mm (interpolated there), not its mean to 4 mm.
+  EXPECT_NEAR(mean_load_error(run, ref, "F", 0.0), 0.01, 1e-12);
+  EXPECT_NEAR(mean_load_error(run, ref, "F", 1.0), 0.01, 1e-12);
+  History longer = run;
+  longer.data["stroke"].back() = 4.5;  // past the reference: not measured
+  EXPECT_EQ(mean_load_error(longer, ref, "F", 0.0), -1.0);
+}
+
+TEST(ObservedOrders, RecoverAKnownOrderAboveTheFloor) {
+  // e = 3 a^0.7 down to a floor of round-off at 1e-9 (e = 1e-10 and 0
+  // below it), values out of order, one not measured (-1).
+  const std::vector<double> a{1e-3, 1e-1, 1e-5, 1e-2, 1e-4, 1e-7, 1e-6, 1e-8};
+  std::vector<double> e;
+  for (double x : a) e.push_back(3 * std::pow(x, 0.7));
+  e[5] = 1e-10, e[6] = -1, e[7] = 0;
+  const ObservedOrders o = observed_orders(a, e, 1e-9);
+  ASSERT_EQ(o.a.size(), 8u);
+  EXPECT_EQ(o.a.front(), 1e-1);  // falling
+  EXPECT_EQ(o.a.back(), 1e-8);
+  ASSERT_EQ(o.successive.size(), 7u);
+  for (int k = 0; k < 4; ++k) {  // 1e-1 to 1e-5
+    EXPECT_TRUE(o.successive_measured[k]) << k;
+    EXPECT_NEAR(o.successive[k], 0.7, 1e-12) << k;
+  }
+  for (int k = 4; k < 7; ++k) EXPECT_FALSE(o.successive_measured[k]) << k;  // 1e-6 not measured, 1e-7 at the floor
+  EXPECT_EQ(o.fit_points, 5);
+  EXPECT_NEAR(o.fit, 0.7, 1e-12);
+}
+
+TEST(ObservedOrders, LeastSquaresThroughScatterAndTooFewPoints) {
+  // Errors 2 a (order 1) times 1.1, 1/1.1 by turns: the successive slopes
+  // scatter about 1 by 2 log10 1.1, the fit over the whole range does not.
+  const std::vector<double> a{1, 0.1, 0.01, 1e-3, 1e-4};
+  std::vector<double> e;
+  for (std::size_t k = 0; k < a.size(); ++k) e.push_back(2 * a[k] * (k % 2 ? 1 / 1.1 : 1.1));
+  const ObservedOrders o = observed_orders(a, e, 0.0);
+  EXPECT_NEAR(o.successive[0], 1 + 2 * std::log10(1.1), 1e-12);
+  EXPECT_NEAR(o.successive[1], 1 - 2 * std::log10(1.1), 1e-12);
+  EXPECT_EQ(o.fit_points, 5);
+  // The scatter r = +-ln 1.1 is symmetric about the middle value: the
+  // slope's shift sum (x - xm) r / sum (x - xm)^2 (x = ln a) is zero.
+  EXPECT_NEAR(o.fit, 1.0, 1e-12);
+  // Only the smallest value's error 1.1 times the line: x - xm = -2 ln 10
+  // there, sum (x - xm)^2 = 10 (ln 10)^2, so the slope is 1 - 0.2 log10 1.1.
+  e = {2 * a[0], 2 * a[1], 2 * a[2], 2 * a[3], 2.2 * a[4]};
+  EXPECT_NEAR(observed_orders(a, e, 0.0).fit, 1 - 0.2 * std::log10(1.1), 1e-12);
+  // An error that grows as a falls: a negative order, measured as such.
+  EXPECT_NEAR(observed_orders({1e-2, 1e-3}, {1e-4, 1e-3}, 0.0).successive[0], -1.0, 1e-12);
+  // One value above the floor: no fit.
+  const ObservedOrders one = observed_orders({1e-1, 1e-2}, {1e-3, 1e-7}, 1e-6);
+  EXPECT_FALSE(one.fit_measured());
+  EXPECT_FALSE(one.successive_measured[0]);
 }
 
 TEST(TableWriter, CsvAndHdf5HoldTheSameRows) {
