@@ -100,7 +100,9 @@ StepCheck SsnEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel
 
 void SsnEnforcement::measure(const StepView& v) {
   const auto& rows = *rows_;
-  primal_ = complementarity_ = friction_ = stick_slip_ = 0;
+  // The largest over the step's solves (the midpoint scheme's half step
+  // and its end).
+  if (v.step != measured_step_) primal_ = complementarity_ = friction_ = stick_slip_ = 0, measured_step_ = v.step;
   stick_ = slip_ = 0;
   double total = 0;
   for (const SsnRowState& s : state_) total += std::max(s.lambda_n, 0.0);

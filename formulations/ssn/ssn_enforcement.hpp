@@ -69,7 +69,9 @@ class SsnEnforcement final : public ContactEnforcement {
   // conditions' largest violation over the bound (|lambda_T| above g,
   // a slipping row's |lambda_T + g sign gamma_T|) and a sticking row's
   // largest slip rate over v_ref.
+  // The largest over the solves of step measured_step_.
   double primal_ = 0, complementarity_ = 0, friction_ = 0, stick_slip_ = 0;
+  int measured_step_ = -1;
   int stick_ = 0, slip_ = 0;
 };
 

@@ -34,8 +34,9 @@ constexpr double kRoundOffCorrection = 1e-12, kRoundOffFactor = 100;
 // per N: against c ~ sigma w / v of 1e3 to 1e6).
 constexpr double kRegularization = 1e-8;
 // A converged row in contact is within kRowGap of the element size of its
-// master at the step's end, and a sticking row slips at most kRowSlip of
-// the speed scale (the conditions the enforcement checks at 1e-9 and 1e-8).
+// master at the step's end, a sticking row slips at most kRowSlip of the
+// speed scale, and a slipping row not along its force by more (the
+// conditions the enforcement checks at 1e-9 and 1e-8).
 constexpr double kRowGap = 1e-11, kRowSlip = 1e-10;
 // A step whose residual on its own sets exceeds this many times the
 // iterate's is cut.
@@ -95,12 +96,8 @@ void SsnStepSolver::reduce_rows(const StepView& v, const StepProblem& problem) {
     r.one_direction = nn * tt - nt * nt <= kParallel * nn * tt || tt <= kParallel * nn;
     red_.push_back(std::move(r));
   }
-  // Nodes held by two die rows (k = 1: the node alone).
-  std::map<Index, int> die_rows;
-  for (const Reduced& r : red_)
-    if ((*rows_)[r.row].kin.k == 1) ++die_rows[(*rows_)[r.row].kin.nodes[0]];
-  for (Reduced& r : red_)
-    r.shared_node = (*rows_)[r.row].kin.k == 1 && die_rows[(*rows_)[r.row].kin.nodes[0]] > 1;
+  // The node of each row against a die (k = 1: the node alone).
+  for (Reduced& r : red_) r.die_node = (*rows_)[r.row].kin.k == 1 ? (*rows_)[r.row].kin.nodes[0] : -1;
 }
 
 void SsnStepSolver::forces(StepProblem& problem, Iterate& it) {
@@ -134,6 +131,14 @@ void SsnStepSolver::rows(const StepView& v, Iterate& it, const Iterate* branch, 
     for (std::size_t j = 0; j < m; ++j)
       active_rows_[red_[j].row] = hold && held_[j] ? held_[j]->active : it.ln[j] - red_[j].cn * r[j] > 0;
     frictions_(v, active_rows_, friction_);
+    // A node in contact with two dies (both rows active): neither row
+    // sticks with a force (ncp.hpp, may_stick).
+    std::map<Index, int> pressing;
+    for (std::size_t j = 0; j < m; ++j)
+      if (red_[j].die_node >= 0 && active_rows_[red_[j].row]) ++pressing[red_[j].die_node];
+    shared_.assign(m, 0);
+    for (std::size_t j = 0; j < m; ++j)
+      shared_[j] = red_[j].die_node >= 0 && active_rows_[red_[j].row] && pressing[red_[j].die_node] > 1;
   }
   it.ncp.resize(m);
   it.sets.resize(m);
@@ -142,7 +147,7 @@ void SsnStepSolver::rows(const StepView& v, Iterate& it, const Iterate* branch, 
     for (const auto& [d, w] : rr.an) it.F[d] -= it.ln[j] * w;
     for (const auto& [d, w] : rr.at) it.F[d] -= it.lt[j] * w;
     RowFriction f = rr.one_direction ? RowFriction{} : friction_[rr.row];
-    f.may_stick = !rr.shared_node;
+    f.may_stick = !shared_[j];
     const RowNcp* b = branch ? &branch->ncp[j] : hold && held_[j] ? &*held_[j] : nullptr;
     it.ncp[j] = row_ncp(it.ln[j], it.lt[j], r[j], g[j], rr.cn, rr.ct, f, b);
     it.F[n + 2 * j] = it.ncp[j].cn;
@@ -222,6 +227,9 @@ bool SsnStepSolver::rows_meet(const StepView& v, const Iterate& it) const {
     const RowNcp& q = it.ncp[j];
     if (q.active && std::abs(it.r[j]) * v.dt > kRowGap * (*rows_)[red_[j].row].h) return false;
     if (q.active && q.stick && std::abs(it.g[j]) > kRowSlip * s_.speed_scale) return false;
+    // A slipping row's force s g opposes its slip (a row held on a slip
+    // branch may not).
+    if (q.active && !q.stick && !q.grazing && q.g > 0 && q.sign * it.g[j] > kRowSlip * s_.speed_scale) return false;
   }
   return true;
 }

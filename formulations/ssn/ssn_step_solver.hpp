@@ -123,8 +123,7 @@ class SsnStepSolver final : public StepSolver {
     // held frictionless, its normal force carrying that component whole,
     // as `direct` records the reaction of such a node.
     bool one_direction = false;
-    // Its slave node is held by another die row too (ncp.hpp, may_stick).
-    bool shared_node = false;
+    Index die_node = -1;  // a row against a die: its node
   };
   struct Iterate {
     Vec u;
@@ -164,6 +163,9 @@ class SsnStepSolver final : public StepSolver {
   // Per row of the solve: its set changes, and the branch it is held on
   // after kHoldAfter of them (ssn_step_solver.cpp).
   std::vector<int> flips_, normal_flips_, reholds_;
+  // Per row of the solve: its node is in contact with another die too, at
+  // the last set update.
+  std::vector<char> shared_;
   std::vector<std::optional<RowNcp>> held_;
   LinearSolver lu_;
   std::uint64_t pattern_hash_ = 0, pattern_version_ = 0;
