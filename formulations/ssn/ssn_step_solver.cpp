@@ -34,9 +34,8 @@ constexpr double kRoundOffCorrection = 1e-12, kRoundOffFactor = 100;
 // per N: against c ~ sigma w / v of 1e3 to 1e6).
 constexpr double kRegularization = 1e-8;
 // A converged row in contact is within kRowGap of the element size of its
-// master at the step's end, a sticking row slips at most kRowSlip of the
-// speed scale, and a slipping row not along its force by more (the
-// conditions the enforcement checks at 1e-9 and 1e-8).
+// master at the step's end and a sticking row slips at most kRowSlip of
+// the speed scale (the conditions the enforcement checks at 1e-9 and 1e-8).
 constexpr double kRowGap = 1e-11, kRowSlip = 1e-10;
 // A step whose residual on its own sets exceeds this many times the
 // iterate's is cut.
@@ -227,9 +226,6 @@ bool SsnStepSolver::rows_meet(const StepView& v, const Iterate& it) const {
     const RowNcp& q = it.ncp[j];
     if (q.active && std::abs(it.r[j]) * v.dt > kRowGap * (*rows_)[red_[j].row].h) return false;
     if (q.active && q.stick && std::abs(it.g[j]) > kRowSlip * s_.speed_scale) return false;
-    // A slipping row's force s g opposes its slip (a row held on a slip
-    // branch may not).
-    if (q.active && !q.stick && !q.grazing && q.g > 0 && q.sign * it.g[j] > kRowSlip * s_.speed_scale) return false;
   }
   return true;
 }
