@@ -48,6 +48,7 @@ class SsnEnforcement final : public ContactEnforcement {
   bool exact_friction() const override { return true; }
   void columns(std::vector<NamedValue>& out) const override;
   std::optional<double> penetration_rel() const override { return primal_; }
+  std::optional<double> friction_violation() const override { return std::max(friction_, stick_slip_); }
   void derived(std::vector<NamedValue>& out) const override;
 
  private:

@@ -49,6 +49,9 @@ class ContactEnforcement {
   // Whether it treats friction exactly: its results carry each row's
   // stick or slip state (RowResult::stick).
   virtual bool exact_friction() const { return false; }
+  // With exact friction: the last solve's largest violation of the law
+  // (ContactRecord::friction_violation).
+  virtual std::optional<double> friction_violation() const { return std::nullopt; }
 };
 
 }  // namespace rpfem

@@ -123,6 +123,10 @@ struct ContactRecord {
   // Largest penetration over the local element size (the run warns above
   // run.penetration_tolerance); nullopt if the treatment measures none.
   std::optional<double> penetration_rel;
+  // An exact friction law's largest violation (relative: of a row's bound,
+  // or a sticking row's slip over the speed scale); nullopt if the
+  // treatment has no exact friction. The run warns above 1e-8.
+  std::optional<double> friction_violation;
 };
 
 // What a treatment states once, at the start of a run.

@@ -163,6 +163,11 @@ class Runner {
   // none): the reach of a corner's reflex angle that is not an inversion
   // (attempt()).
   double last_penetration_rel_ = 0;
+  // Steps whose exact friction law was violated beyond kFrictionTolerance
+  // (ContactRecord::friction_violation), and the worst.
+  static constexpr double kFrictionTolerance = 1e-8;
+  int friction_steps_ = 0, worst_friction_step_ = -1;
+  double worst_friction_ = 0, worst_friction_stroke_ = 0;
 };
 
 StepView Runner::view(const State& st, int step, double dt) const {
@@ -356,6 +361,10 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
       ++floor_steps_;
       if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
     }
+    if (const auto f = cr.friction_violation; f && !(*f <= kFrictionTolerance)) {
+      ++friction_steps_;
+      if (!(*f <= worst_friction_)) worst_friction_ = *f, worst_friction_step_ = step, worst_friction_stroke_ = st.stroke;
+    }
     if (const auto pen = cr.penetration_rel) {
       penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
       if (!(*pen <= worst_penetration_)) {
@@ -408,6 +417,13 @@ RunOutcome Runner::finish() {
            sci(scene_.solver.newton.tol_force) + ")";
     out_.warnings.push_back(w + ": a penalty or stiffness too large for double precision");
   }
+  if (friction_steps_ > 0)
+    out_.warnings.push_back("exact friction met only to " + sci(worst_friction_) + " at step " +
+                            std::to_string(worst_friction_step_) + " (stroke " + sci(worst_friction_stroke_) +
+                            " mm), above " + sci(kFrictionTolerance) + " at " + std::to_string(friction_steps_) +
+                            " step(s) (history.csv: kkt_friction, kkt_stick_slip): a row at the kink between stick and "
+                            "slip; a smaller stepping.stroke_increment, or the arctan law (regularization = \"arctan\") "
+                            "under another enforcement");
   if (penetrating_steps_ > 0)
     out_.warnings.push_back("penetration unacceptable: " + sci(worst_penetration_) +
                             " of the element size at step " + std::to_string(worst_penetration_step_) + " (stroke " +
