@@ -60,7 +60,8 @@ constexpr double kGrazingTolerance = 1e-9;
 
 }  // namespace
 
-SsnStepSolver::SsnStepSolver(SsnSettings s) : s_(s), lu_(LinearSolverChoice::Lu, CholeskyMode::Supernodal, s.lu) {}
+SsnStepSolver::SsnStepSolver(SsnSettings s)
+    : s_(s), lu_(LinearSolverChoice::Lu, CholeskyMode::Supernodal, s.lu), cholesky_(LinearSolverChoice::Cholmod) {}
 
 void SsnStepSolver::reduce_rows(const StepView& v, const StepProblem& problem) {
   // r = gamma_N + g_from / dt and gamma_T with v_a = T_a u_a + p_a.
@@ -192,7 +193,146 @@ SpMat SsnStepSolver::jacobian(const SpMat& K, const Iterate& it) const {
   return J;
 }
 
+bool SsnStepSolver::condensable(const Iterate& it) const {
+  // Rows of one node against a die with both its directions free (T = I),
+  // on a branch whose multipliers are the node's reactions or known
+  // forces: open, sticking, or slipping under a fixed bound.
+  if (!s_.condense) return false;
+  std::map<Index, int> on;
+  for (std::size_t j = 0; j < red_.size(); ++j) {
+    const Reduced& rr = red_[j];
+    const RowNcp& q = it.ncp[j];
+    // Two free directions, or one (a node on the axis or a symmetry plane,
+    // held frictionless: one_direction).
+    const bool two = rr.an.size() == 2 && !rr.one_direction, one = rr.an.size() == 1 && rr.one_direction;
+    if (rr.die_node < 0 || !(two || one) || q.grazing) return false;
+    if (q.active && !q.stick && (q.dct_dln != 0 || q.dct_dr != 0)) return false;  // Coulomb's bound follows N
+    if (q.active && q.stick && shared_[j]) return false;
+    if (q.active && ++on[rr.die_node] > 1) return false;
+  }
+  return true;
+}
+
+bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
+  // The rows' multipliers condensed (Popp et al. 2010; Wohlmuth 2011): at
+  // a node pressing on a die, the step's normal velocity is prescribed
+  // (C_N = c_N r: n . du = -r), and sticking its tangential one too
+  // (t . du = -gamma_T); the forces are the reactions there, or a
+  // slipping row's bound g s, a known force. K in the nodes' (n, t)
+  // frames with the prescribed directions eliminated stays symmetric
+  // positive definite: CHOLMOD.
+  const Index n = K.rows();
+  const std::size_t m = red_.size();
+  // Per dof: its node's frame column (n or t) where rotated.
+  std::vector<int> row_of(n, -1);
+  for (std::size_t j = 0; j < m; ++j)
+    if (it.ncp[j].active && red_[j].an.size() == 2)
+      row_of[red_[j].an[0].first] = row_of[red_[j].an[1].first] = static_cast<int>(j);
+  // The dofs' local coordinates xi = Q^T du: at a rotated node dof ix holds
+  // xi_n and iy xi_t; Q's entries (global dof d, local dof p).
+  auto q_entries = [&](Index d, std::pair<Index, double>* out) {
+    const int j = row_of[d];
+    if (j < 0) return out[0] = {d, 1.0}, 1;
+    const Reduced& rr = red_[j];
+    const int c = d == rr.an[0].first ? 0 : 1;  // the global component
+    out[0] = {rr.an[0].first, rr.an[c].second};  // n's component
+    out[1] = {rr.an[1].first, rr.at[c].second};  // t's component
+    return 2;
+  };
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(2 * K.nonZeros());
+  std::pair<Index, double> qi[2], qj[2];
+  for (Eigen::Index c = 0; c < K.outerSize(); ++c) {
+    const int nj = q_entries(c, qj);
+    for (SpMat::InnerIterator e(K, c); e; ++e) {
+      const int ni = q_entries(e.row(), qi);
+      for (int a = 0; a < ni; ++a)
+        for (int b = 0; b < nj; ++b) trip.emplace_back(qi[a].first, qj[b].first, qi[a].second * e.value() * qj[b].second);
+    }
+  }
+  SpMat A(n, n);
+  A.setFromTriplets(trip.begin(), trip.end());
+  // The right-hand side -R plus the slipping rows' known forces, in the
+  // local coordinates.
+  Vec b = -it.R;
+  std::vector<double> lt_new(m, 0.0);
+  for (std::size_t j = 0; j < m; ++j) {
+    const RowNcp& q = it.ncp[j];
+    if (!q.active || q.stick || red_[j].an.size() == 1) continue;
+    lt_new[j] = q.g * q.sign;
+    for (const auto& [d, w] : red_[j].at) b[d] += lt_new[j] * w;
+  }
+  Vec bl = b;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!it.ncp[j].active || red_[j].an.size() == 1) continue;
+    const Reduced& rr = red_[j];
+    const Index dx_ = rr.an[0].first, dy_ = rr.an[1].first;
+    bl[dx_] = rr.an[0].second * b[dx_] + rr.an[1].second * b[dy_];
+    bl[dy_] = rr.at[0].second * b[dx_] + rr.at[1].second * b[dy_];
+  }
+  // Prescribed local dofs and their values.
+  std::vector<char> fixed(n, 0);
+  Vec value = Vec::Zero(n);
+  for (std::size_t j = 0; j < m; ++j) {
+    const RowNcp& q = it.ncp[j];
+    if (!q.active) continue;
+    if (red_[j].an.size() == 1) {  // its one free dof moves the gap: a_N du = -r
+      const auto [d, w] = red_[j].an[0];
+      fixed[d] = 1, value[d] = -it.r[j] / w;
+      continue;
+    }
+    const Index pn = red_[j].an[0].first, pt = red_[j].an[1].first;
+    fixed[pn] = 1, value[pn] = -it.r[j];
+    if (q.stick) fixed[pt] = 1, value[pt] = -it.g[j];
+  }
+  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
+    for (SpMat::InnerIterator e(A, c); e; ++e) {
+      const Index i = e.row();
+      if (fixed[c] && !fixed[i]) bl[i] -= e.value() * value[c];
+      if ((fixed[c] || fixed[i]) && i != c) e.valueRef() = 0;
+    }
+  for (Index p = 0; p < n; ++p)
+    if (fixed[p]) bl[p] = A.coeff(p, p) * value[p];
+  const std::uint64_t h = pattern_hash(A);
+  if (h != condensed_hash_) condensed_hash_ = h, ++condensed_version_;
+  Vec xi;
+  {
+    ScopedSeconds timing(stats_.factor_seconds);
+    if (!cholesky_.factorize(A, true, condensed_version_)) return false;
+    xi = cholesky_.solve(bl);
+  }
+  // du = Q xi, then the reactions from the nodes' equilibrium.
+  Vec du = xi;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!it.ncp[j].active || red_[j].an.size() == 1) continue;
+    const Reduced& rr = red_[j];
+    const Index dx_ = rr.an[0].first, dy_ = rr.an[1].first;
+    du[dx_] = rr.an[0].second * xi[dx_] + rr.at[0].second * xi[dy_];
+    du[dy_] = rr.an[1].second * xi[dx_] + rr.at[1].second * xi[dy_];
+  }
+  const Vec res = K * du + it.R;  // the elements' force after the step
+  dx.resize(n + 2 * static_cast<Index>(m));
+  dx.head(n) = du;
+  for (std::size_t j = 0; j < m; ++j) {
+    const RowNcp& q = it.ncp[j];
+    double ln = 0, lt = 0;
+    if (q.active && red_[j].an.size() == 1) {
+      ln = res[red_[j].an[0].first] / red_[j].an[0].second;
+    } else if (q.active) {
+      const Reduced& rr = red_[j];
+      const Index dx_ = rr.an[0].first, dy_ = rr.an[1].first;
+      ln = rr.an[0].second * res[dx_] + rr.an[1].second * res[dy_];
+      lt = q.stick ? rr.at[0].second * res[dx_] + rr.at[1].second * res[dy_] : lt_new[j];
+    }
+    dx[n + 2 * j] = ln - it.ln[j];
+    dx[n + 2 * j + 1] = lt - it.lt[j];
+  }
+  ++stats_.condensed;
+  return dx.allFinite();
+}
+
 bool SsnStepSolver::newton_step(const SpMat& K, const Iterate& it, Vec& dx) {
+  if (condensable(it)) return condensed_step(K, it, dx);
   const SpMat J = jacobian(K, it);
   const std::uint64_t h = pattern_hash(J);
   if (h != pattern_hash_) pattern_hash_ = h, ++pattern_version_;

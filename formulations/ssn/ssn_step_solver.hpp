@@ -63,6 +63,7 @@ struct SsnSettings {
   double c_normal = 1, c_tangential = 1;  // formulations.ssn.* (ssn_enforcement.hpp)
   LuMode lu = LuMode::Auto;
   double speed_scale = 1;  // mm/s: the scene's largest prescribed speed
+  bool condense = true;    // formulations.ssn.condense
 };
 
 // The row state the enforcement keeps between solves and reads after one.
@@ -79,6 +80,7 @@ struct SsnSolveStats {
   int iterations = 0, halvings = 0, set_changes = 0;
   int holds = 0;  // rows held on their branch after cycling
   int grazing = 0;  // rows ending grazing
+  int condensed = 0;  // Newton steps solved with the rows condensed
   int rows = 0;  // rows in the solve
   double factor_seconds = 0;
 };
@@ -146,6 +148,10 @@ class SsnStepSolver final : public StepSolver {
   void rows(const StepView& v, Iterate& it, const Iterate* branch, bool hold = false);
   SpMat jacobian(const SpMat& K, const Iterate& it) const;
   bool newton_step(const SpMat& K, const Iterate& it, Vec& dx);
+  // Whether the iterate's rows condense (ssn_step_solver.cpp), and the
+  // Newton step with them condensed.
+  bool condensable(const Iterate& it) const;
+  bool condensed_step(const SpMat& K, const Iterate& it, Vec& dx);
   // Whether every row meets its own set's conditions at it to kRowGap and
   // kRowSlip (ssn_step_solver.cpp).
   bool rows_meet(const StepView& v, const Iterate& it) const;
@@ -167,7 +173,8 @@ class SsnStepSolver final : public StepSolver {
   // the last set update.
   std::vector<char> shared_;
   std::vector<std::optional<RowNcp>> held_;
-  LinearSolver lu_;
+  LinearSolver lu_, cholesky_;
+  std::uint64_t condensed_hash_ = 0, condensed_version_ = 0;
   std::uint64_t pattern_hash_ = 0, pattern_version_ = 0;
   SsnSolveStats stats_;
 };

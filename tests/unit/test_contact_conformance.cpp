@@ -760,3 +760,26 @@ TEST(Conformance, FrictionTreatmentAnEnforcementCannotDoIsRefusedByName) {
     }
   }
 }
+
+// The ssn rows condensed onto the nodes pressing on dies (CHOLMOD on the
+// tangent with their directions prescribed) take the same Newton steps as
+// the saddle-point system: the same loads, and the condensed steps used.
+TEST(Conformance, SsnCondensedRowsGiveTheSaddlePointSystemsSolution) {
+  for (const std::string law : {"none", "factor"}) {
+    SCOPED_TRACE(law);
+    ContactRun on(die_block(friction_table(law)), "ssn", "", {"formulations.ssn.condense=true"});
+    ContactRun off(die_block(friction_table(law)), "ssn", "", {"formulations.ssn.condense=false"});
+    ASSERT_TRUE(on.outcome.finished && off.outcome.finished);
+    ASSERT_EQ(on.out.steps.size(), off.out.steps.size());
+    for (std::size_t k = 1; k < on.out.steps.size(); ++k) {
+      const double a = on.out.load("top", k)(1), b = off.out.load("top", k)(1);
+      EXPECT_NEAR(a, b, 1e-9 * std::abs(b)) << "step " << k;
+    }
+    const ContactInfo info = on.contact->info();
+    const auto col = std::find(info.column_names.begin(), info.column_names.end(), "ssn_condensed");
+    ASSERT_NE(col, info.column_names.end());
+    double condensed = 0;
+    for (const auto& s : on.out.steps) condensed += s.contact_report[col - info.column_names.begin()];
+    EXPECT_GT(condensed, 0);
+  }
+}
