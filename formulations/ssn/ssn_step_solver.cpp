@@ -262,14 +262,21 @@ bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
     lt_new[j] = q.g * q.sign;
     for (const auto& [d, w] : red_[j].at) b[d] += lt_new[j] * w;
   }
-  Vec bl = b;
-  for (std::size_t j = 0; j < m; ++j) {
-    if (!it.ncp[j].active || red_[j].an.size() == 1) continue;
-    const Reduced& rr = red_[j];
-    const Index dx_ = rr.an[0].first, dy_ = rr.an[1].first;
-    bl[dx_] = rr.an[0].second * b[dx_] + rr.an[1].second * b[dy_];
-    bl[dy_] = rr.at[0].second * b[dx_] + rr.at[1].second * b[dy_];
-  }
+  // y = Q^T x (to_local) or Q x at the rotated nodes: Q's columns there
+  // are n and t.
+  const auto rotate = [&](const Vec& x, bool to_local) {
+    Vec y = x;
+    for (std::size_t j = 0; j < m; ++j) {
+      if (!it.ncp[j].active || red_[j].an.size() == 1) continue;
+      const Reduced& rr = red_[j];
+      const Index ix = rr.an[0].first, iy = rr.an[1].first;
+      const double nx = rr.an[0].second, ny = rr.an[1].second, tx = rr.at[0].second, ty = rr.at[1].second;
+      y[ix] = to_local ? nx * x[ix] + ny * x[iy] : nx * x[ix] + tx * x[iy];
+      y[iy] = to_local ? tx * x[ix] + ty * x[iy] : ny * x[ix] + ty * x[iy];
+    }
+    return y;
+  };
+  Vec bl = rotate(b, true);
   // Prescribed local dofs and their values.
   std::vector<char> fixed(n, 0);
   Vec value = Vec::Zero(n);
@@ -302,14 +309,7 @@ bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
     xi = cholesky_.solve(bl);
   }
   // du = Q xi, then the reactions from the nodes' equilibrium.
-  Vec du = xi;
-  for (std::size_t j = 0; j < m; ++j) {
-    if (!it.ncp[j].active || red_[j].an.size() == 1) continue;
-    const Reduced& rr = red_[j];
-    const Index dx_ = rr.an[0].first, dy_ = rr.an[1].first;
-    du[dx_] = rr.an[0].second * xi[dx_] + rr.at[0].second * xi[dy_];
-    du[dy_] = rr.an[1].second * xi[dx_] + rr.at[1].second * xi[dy_];
-  }
+  const Vec du = rotate(xi, false);
   const Vec res = K * du + it.R;  // the elements' force after the step
   dx.resize(n + 2 * static_cast<Index>(m));
   dx.head(n) = du;
