@@ -17,6 +17,7 @@
 //   Coulomb:         B = min(mu N, k w), N the last solve's multiplier
 // (k w: the sticking bound of the rows' contact areas, as everywhere).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -42,7 +43,9 @@ class IpoptEnforcement final : public ContactEnforcement {
   void columns(std::vector<NamedValue>& out) const override;
   std::optional<double> penetration_rel() const override { return solver_.kkt().primal; }
   void derived(std::vector<NamedValue>& out) const override;
-  bool exact_friction() const override { return exact_any_; }
+  std::optional<double> friction_violation() const override {
+    return exact_any_ ? std::optional<double>(std::max(kkt_friction_, kkt_stick_slip_)) : std::nullopt;
+  }
 
  private:
   // The pressing forces (N) of a settled solve, and the time of its

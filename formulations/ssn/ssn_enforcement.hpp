@@ -45,7 +45,6 @@ class SsnEnforcement final : public ContactEnforcement {
   StepSolver* solver() override { return &solver_; }
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
   const std::vector<RowResult>& results() const override { return results_; }
-  bool exact_friction() const override { return true; }
   void columns(std::vector<NamedValue>& out) const override;
   std::optional<double> penetration_rel() const override { return primal_; }
   std::optional<double> friction_violation() const override { return std::max(friction_, stick_slip_); }

@@ -1,9 +1,7 @@
 #include "ssn/ssn_step_solver.hpp"
 
 #include <algorithm>
-#include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 
 #include "core/timing.hpp"
@@ -26,10 +24,6 @@ std::uint64_t pattern_hash(const SpMat& A) {
 // Gap and slip rates whose weights' Gram determinant is below this
 // fraction of |a_N|^2 |a_T|^2 move along one direction.
 constexpr double kParallel = 1e-12;
-// A solve whose correction is below kRoundOffCorrection of |u| and whose
-// |F| is within kRoundOffFactor of its tolerance is at round-off
-// (solver/newton.cpp's constants).
-constexpr double kRoundOffCorrection = 1e-12, kRoundOffFactor = 100;
 // The multiplier block's diagonal where the functions have none (N s/mm
 // per N: against c ~ sigma w / v of 1e3 to 1e6).
 constexpr double kRegularization = 1e-8;
@@ -40,8 +34,6 @@ constexpr double kRowGap = 1e-11, kRowSlip = 1e-10;
 // A step whose residual on its own sets exceeds this many times the
 // iterate's is cut.
 constexpr double kGrowth = 10;
-// A merit's change below this fraction of its value is round-off.
-constexpr double kRoundOffMerit = 1e-12;
 
 // A row's set: 0 inactive, 1 and 2 slipping either way, 3 sticking.
 char set_of(const RowNcp& n) { return n.active ? (n.stick ? 3 : n.sign > 0 ? 1 : 2) : 0; }
@@ -94,10 +86,9 @@ void SsnStepSolver::reduce_rows(const StepView& v, const StepProblem& problem) {
     // (Or the slip rate is fixed by the kernel's constraints: both sides
     // on a symmetry plane.)
     r.one_direction = nn * tt - nt * nt <= kParallel * nn * tt || tt <= kParallel * nn;
+    r.die_node = k.k == 1 ? k.nodes[0] : -1;  // against a die: the node alone
     red_.push_back(std::move(r));
   }
-  // The node of each row against a die (k = 1: the node alone).
-  for (Reduced& r : red_) r.die_node = (*rows_)[r.row].kin.k == 1 ? (*rows_)[r.row].kin.nodes[0] : -1;
 }
 
 void SsnStepSolver::forces(StepProblem& problem, Iterate& it) {
@@ -207,7 +198,6 @@ bool SsnStepSolver::condensable(const Iterate& it) const {
     const bool two = rr.an.size() == 2 && !rr.one_direction, one = rr.an.size() == 1 && rr.one_direction;
     if (rr.die_node < 0 || !(two || one) || q.grazing) return false;
     if (q.active && !q.stick && (q.dct_dln != 0 || q.dct_dr != 0)) return false;  // Coulomb's bound follows N
-    if (q.active && q.stick && shared_[j]) return false;
     if (q.active && ++on[rr.die_node] > 1) return false;
   }
   return true;
@@ -300,8 +290,12 @@ bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
     }
   for (Index p = 0; p < n; ++p)
     if (fixed[p]) bl[p] = A.coeff(p, p) * value[p];
-  const std::uint64_t h = pattern_hash(A);
-  if (h != condensed_hash_) condensed_hash_ = h, ++condensed_version_;
+  // A's pattern is K's, fixed within a solve: hashed at its first step.
+  if (!condensed_hashed_) {
+    const std::uint64_t h = pattern_hash(A);
+    if (h != condensed_hash_) condensed_hash_ = h, ++condensed_version_;
+    condensed_hashed_ = true;
+  }
   Vec xi;
   {
     ScopedSeconds timing(stats_.factor_seconds);
@@ -334,8 +328,13 @@ bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
 bool SsnStepSolver::newton_step(const SpMat& K, const Iterate& it, Vec& dx) {
   if (condensable(it)) return condensed_step(K, it, dx);
   const SpMat J = jacobian(K, it);
-  const std::uint64_t h = pattern_hash(J);
-  if (h != pattern_hash_) pattern_hash_ = h, ++pattern_version_;
+  // Every row's entries are in J's pattern, and K's is fixed within a
+  // solve: hashed at its first step.
+  if (!saddle_hashed_) {
+    const std::uint64_t h = pattern_hash(J);
+    if (h != pattern_hash_) pattern_hash_ = h, ++pattern_version_;
+    saddle_hashed_ = true;
+  }
   {
     ScopedSeconds timing(stats_.factor_seconds);
     if (!lu_.factorize(J, false, pattern_version_)) return false;
@@ -344,11 +343,20 @@ bool SsnStepSolver::newton_step(const SpMat& K, const Iterate& it, Vec& dx) {
   return dx.allFinite();
 }
 
-SpMat SsnStepSolver::system(const StepView& v, StepProblem& problem, const Vec& x, Vec& F) {
+void SsnStepSolver::start(const StepView& v, const StepProblem& problem) {
   reduce_rows(v, problem);
+  const std::size_t m = red_.size();
   active_rows_.assign(rows_->size(), 0);
   friction_.assign(rows_->size(), {});
-  held_.assign(red_.size(), std::nullopt);
+  held_.assign(m, std::nullopt);
+  flips_.assign(m, 0);
+  normal_flips_.assign(m, 0);
+  reholds_.assign(m, 0);
+  saddle_hashed_ = condensed_hashed_ = false;
+}
+
+SpMat SsnStepSolver::system(const StepView& v, StepProblem& problem, const Vec& x, Vec& F) {
+  start(v, problem);
   const Index n = problem.dofs().num_free();
   Iterate it;
   it.u = x.head(n);
@@ -380,11 +388,9 @@ bool SsnStepSolver::grazing_holds(const Iterate& it, std::size_t j) const {
 SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& u) {
   SolveOutcome out;
   stats_ = {};
-  reduce_rows(v, problem);
+  start(v, problem);
   const std::size_t m = red_.size();
   stats_.rows = static_cast<int>(m);
-  active_rows_.assign(rows_->size(), 0);
-  friction_.assign(rows_->size(), {});
   // Rows left out of the solve carry nothing.
   std::vector<char> in_solve(rows_->size(), 0);
   for (const Reduced& r : red_) in_solve[r.row] = 1;
@@ -414,19 +420,15 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     x.ln[j] = std::max(0.0, fn / nn);
     if (x.ln[j] > 0 && tt > 0) x.lt[j] = ft / tt;
   }
-  held_.assign(m, std::nullopt);
-  flips_.assign(m, 0);
-  normal_flips_.assign(m, 0);
-  reholds_.assign(m, 0);
   rows(v, x, nullptr, true);
   double last_full = -1;  // |du| of the last full consistent step (-1: none)
   for (int iter = 1;; ++iter) {
-    const SpMat& K = problem.tangent(x.u, !secant);
     if (iter > ns.max_iterations) {
       out.reason = "ssn: no convergence in " + std::to_string(ns.max_iterations) + " iterations (|F| / F_scale = " +
                    std::to_string(x.norm / x.scale) + ")";
       break;
     }
+    const SpMat& K = problem.tangent(x.u, !secant);
     Vec dx;
     if (!newton_step(K, x, dx)) {
       out.reason = "ssn: singular or non-finite Newton system";
@@ -457,19 +459,16 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
         // Within round-off of L(u) a drop of |F| is taken instead (as the
         // kernel's Newton does, solver/newton.hpp).
         ok = L <= L0 + ns.armijo * s * slope ||
-             (L - L0 <= kRoundOffMerit * std::abs(L0) && trial.norm <= (1 - ns.armijo * s) * x.norm);
+             (L - L0 <= kRoundOffEnergy * std::abs(L0) && trial.norm <= (1 - ns.armijo * s) * x.norm);
       } else if (ok) {
         ok = trial.norm <= (1 - ns.armijo * s) * x.norm;
       }
-      if (ok) {
-        // Nor may the residual on the trial's own sets grow beyond
-        // kGrowth times: the Lagrangian of one iterate's sets falls along
-        // steps that change many sets at once while |F| grows without
-        // bound (the backward extrusion after a remesh: 1e8 times).
-        Iterate own = trial;
-        rows(v, own, nullptr, true);
-        ok = own.norm <= kGrowth * x.norm;
-      }
+      // The sets at the trial; nor may the residual on them grow beyond
+      // kGrowth times: the Lagrangian of one iterate's sets falls along
+      // steps that change many sets at once while |F| grows without bound
+      // (the backward extrusion after a remesh: 1e8 times).
+      if (ok || cut == ns.max_halvings) rows(v, trial, nullptr, true);
+      if (ok) ok = trial.norm <= kGrowth * x.norm;
       if (ok) break;
       if (cut == ns.max_halvings) break;  // the shortest step is taken: the secant iteration follows
       s *= 0.5, ++stats_.halvings;
@@ -478,7 +477,6 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
       out.reason = "ssn: non-finite residual";
       break;
     }
-    rows(v, trial, nullptr, true);  // the sets at the new iterate
     const double du = s * dx.head(n).norm();
     int changes = 0;
     for (std::size_t j = 0; j < m; ++j) changes += trial.sets[j] != x.sets[j];
@@ -570,10 +568,7 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     else if (!q.stick && !q.grazing) st.lambda_t = q.g * q.sign;
     st.active = q.active, st.stick = q.stick, st.bound = q.g, st.grazing = q.grazing;
     stats_.grazing += q.grazing;
-    double r = red_[j].r0, g = red_[j].t0;
-    for (const auto& [d, w] : red_[j].an) r += w * u[d];
-    for (const auto& [d, w] : red_[j].at) g += w * u[d];
-    st.end_gap_rate = r, st.slip_rate = g;
+    st.end_gap_rate = x.r[j], st.slip_rate = x.g[j];
   }
   return out;
 }

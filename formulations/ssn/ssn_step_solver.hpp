@@ -139,6 +139,9 @@ class SsnStepSolver final : public StepSolver {
     std::vector<char> sets;  // per row: 0 inactive, 1 slip, 2 stick
   };
   void reduce_rows(const StepView& v, const StepProblem& problem);
+  // A solve's (or system()'s) start: its rows reduced, nothing held, the
+  // patterns to hash.
+  void start(const StepView& v, const StepProblem& problem);
   // The elements' residual R(u) of an iterate, then the whole F with the
   // rows' functions on their own branches or on those of `branch`.
   void forces(StepProblem& problem, Iterate& it);
@@ -175,6 +178,7 @@ class SsnStepSolver final : public StepSolver {
   std::vector<std::optional<RowNcp>> held_;
   LinearSolver lu_, cholesky_;
   std::uint64_t condensed_hash_ = 0, condensed_version_ = 0;
+  bool saddle_hashed_ = false, condensed_hashed_ = false;  // in this solve
   std::uint64_t pattern_hash_ = 0, pattern_version_ = 0;
   SsnSolveStats stats_;
 };

@@ -299,7 +299,7 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
   auto& gap = out.fields["contact_gap"];
   for (auto* f : {&pr, &sh, &slip, &gap}) f->assign(n, 0.0);
   // Exact friction: per slave node 1 sticking, -1 slipping, 0 otherwise.
-  std::vector<double>* stick = enf_->exact_friction() ? &out.fields["stick_slip"] : nullptr;
+  std::vector<double>* stick = enf_->friction_violation() ? &out.fields["stick_slip"] : nullptr;
   if (stick) stick->assign(n, 0.0);
   std::vector<Vec2> die_load(scene_.dies.size(), Vec2::Zero());
   std::vector<std::vector<Index>> die_nodes(scene_.dies.size());

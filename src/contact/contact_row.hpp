@@ -82,7 +82,7 @@ struct RowResult {
   double normal = 0;    // N, normal force (> 0 pressing)
   double friction = 0;  // N, friction force on the slave along t = (-n_y, n_x)
   double slip = 0;      // mm/s, gamma_T
-  // Exact friction (ContactEnforcement::exact_friction): 1 sticking, -1
+  // Exact friction (ContactEnforcement::friction_violation): 1 sticking, -1
   // slipping; 0 not in contact, frictionless, or the arctan law.
   int stick = 0;
   // The force on the slave node when it is not c_0 (N n + T t): a node held

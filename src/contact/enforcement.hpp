@@ -46,11 +46,9 @@ class ContactEnforcement {
   // step gap of a constrained minimization), nullopt to use the rows' gaps.
   virtual std::optional<double> penetration_rel() const { return std::nullopt; }
   virtual void derived(std::vector<NamedValue>& out) const {}
-  // Whether it treats friction exactly: its results carry each row's
-  // stick or slip state (RowResult::stick).
-  virtual bool exact_friction() const { return false; }
-  // With exact friction: the last solve's largest violation of the law
-  // (ContactRecord::friction_violation).
+  // With exact friction (its results then carry each row's stick or slip
+  // state, RowResult::stick): the last solve's largest violation of the
+  // law (ContactRecord::friction_violation); nullopt without.
   virtual std::optional<double> friction_violation() const { return std::nullopt; }
 };
 

@@ -7,16 +7,6 @@
 namespace rpfem {
 
 namespace {
-// The round-off floor: when Newton's own correction is at machine precision
-// (|du| / |u| below kRoundOffCorrection) no iteration can change u any more,
-// and the residual left is the round-off of the largest terms that cancel
-// in it (a virtual rigid body's viscosity, 1e4 times the work's, leaves
-// about 1e-6 of the work's forces). Such a solve is accepted if that floor
-// is within kRoundOffFactor of tol_force; the residual is reported as is.
-constexpr double kRoundOffCorrection = 1e-12;
-constexpr double kRoundOffFactor = 100;
-// Energy differences below this fraction of |Pi| are round-off.
-constexpr double kRoundOffEnergy = 1e-12;
 // The chord method (a held factorization) is kept while the corrections
 // shrink at least this fast; beyond it Newton's fresh tangents are cheaper.
 constexpr double kFrozenContraction = 0.25;

@@ -29,6 +29,18 @@
 
 namespace rpfem {
 
+// The round-off floor: when Newton's own correction is at machine precision
+// (|du| / |u| below kRoundOffCorrection) no iteration can change u any more,
+// and the residual left is the round-off of the largest terms that cancel
+// in it (a virtual rigid body's viscosity, 1e4 times the work's, leaves
+// about 1e-6 of the work's forces). Such a solve is accepted if that floor
+// is within kRoundOffFactor of tol_force; the residual is reported as is.
+// Shared by the step solvers that iterate themselves (formulations/ssn).
+inline constexpr double kRoundOffCorrection = 1e-12;
+inline constexpr double kRoundOffFactor = 100;
+// Energy (or merit) differences below this fraction of |Pi| are round-off.
+inline constexpr double kRoundOffEnergy = 1e-12;
+
 struct NewtonSettings {
   double tol_velocity = 1e-8;
   double tol_force = 1e-7;
