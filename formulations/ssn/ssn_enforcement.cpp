@@ -27,13 +27,12 @@ SsnSettings read_settings(const Scene& scene, CaseSection& s) {
 }  // namespace
 
 SsnEnforcement::SsnEnforcement(const Scene& scene, CaseSection settings, const ContactDiscretization& disc)
-    : scene_(scene), disc_(disc), solver_(read_settings(scene, settings)) {
+    : disc_(disc), solver_(read_settings(scene, settings)) {
   require_friction_treatment(scene, name(), {false, true, true});
   if (disc.overconstrains())
     throw InputError(scene.file + ": contact.discretization = '" + disc.name() + "': enforcement 'ssn' solves each row's forces as "
                      "unknowns and needs linearly independent rows; between bodies this discretization holds each contact "
                      "from both sides; expected node_to_segment or mortar");
-  speed_scale_ = scene.largest_speed();
 }
 
 void SsnEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>& rows) {
@@ -54,7 +53,7 @@ void SsnEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>
   const SsnSettings& s = solver_.settings();
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const double w = std::max(rows[i].weight, 1e-2 * mean[rows[i].iface]);
-    const double c = ifaces[rows[i].iface].sigma_ref * w / speed_scale_;
+    const double c = ifaces[rows[i].iface].sigma_ref * w / speed_scale();
     c_[2 * i] = s.c_normal * c, c_[2 * i + 1] = s.c_tangential * c;
   }
   solver_.set_rows(&rows, &c_, &state_, [this](const StepView& sv, const std::vector<char>& active,
@@ -112,7 +111,7 @@ void SsnEnforcement::measure(const StepView& v) {
     if (rows[i].free) continue;
     const double gap = s.end_gap_rate * v.dt;
     primal_ = std::max(primal_, std::max(0.0, -gap) / rows[i].h);
-    if (total > 0) complementarity_ = std::max(complementarity_, std::abs(s.lambda_n * s.end_gap_rate) / (total * speed_scale_));
+    if (total > 0) complementarity_ = std::max(complementarity_, std::abs(s.lambda_n * s.end_gap_rate) / (total * speed_scale()));
     if (!s.active || results_[i].stick == 0) continue;
     const double g = std::max(s.bound, 1e-300);
     friction_ = std::max(friction_, std::max(0.0, std::abs(s.lambda_t) - s.bound) / g);
@@ -125,13 +124,13 @@ void SsnEnforcement::measure(const StepView& v) {
     }
     if (s.stick) {
       ++stick_;
-      stick_slip_ = std::max(stick_slip_, std::abs(s.slip_rate) / speed_scale_);
+      stick_slip_ = std::max(stick_slip_, std::abs(s.slip_rate) / speed_scale());
     } else {
       ++slip_;
       // A slipping row whose slip rate is at round-off (the neutral point
       // reached: the solution at the kink between the sets) meets the law
       // as a sticking row, its force at the bound in either direction.
-      if (std::abs(s.slip_rate) <= kZeroSlip * speed_scale_) continue;
+      if (std::abs(s.slip_rate) <= kZeroSlip * speed_scale()) continue;
       const double sign = s.slip_rate > 0 ? 1.0 : -1.0;
       friction_ = std::max(friction_, std::abs(s.lambda_t + s.bound * sign) / g);
     }
@@ -156,7 +155,7 @@ void SsnEnforcement::derived(std::vector<NamedValue>& out) const {
   out.push_back({"ssn.c_normal", s.c_normal});
   out.push_back({"ssn.c_tangential", s.c_tangential});
   out.push_back({"ssn.condense", s.condense ? 1.0 : 0.0});
-  out.push_back({"ssn.speed_scale_mm_s", speed_scale_});
+  out.push_back({"ssn.speed_scale_mm_s", speed_scale()});
 }
 
 }  // namespace rpfem

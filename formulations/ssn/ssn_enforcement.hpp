@@ -51,11 +51,12 @@ class SsnEnforcement final : public ContactEnforcement {
   void derived(std::vector<NamedValue>& out) const override;
 
  private:
+  // mm/s: the scene's largest prescribed speed (the solver's setting).
+  double speed_scale() const { return solver_.settings().speed_scale; }
   void frictions(const StepView& v, const std::vector<char>& active, std::vector<RowFriction>& out) const;
   // The Kuhn-Tucker and friction residuals of the settled solve.
   void measure(const StepView& v);
 
-  const Scene& scene_;
   const ContactDiscretization& disc_;
   SsnStepSolver solver_;
   const std::vector<ContactRow>* rows_ = nullptr;
@@ -63,7 +64,6 @@ class SsnEnforcement final : public ContactEnforcement {
   std::vector<double> c_;  // N s/mm, per row: c_N, c_T
   std::vector<RowResult> results_;
   std::map<std::pair<int, Index>, SsnRowState> latest_;  // by row identity: the latest converged solve's
-  double speed_scale_ = 0;
   // Of the last settled solve: the largest end-of-step penetration over
   // the element size, |lambda_N r| over (sum lambda_N) v_ref, the friction
   // conditions' largest violation over the bound (|lambda_T| above g,
