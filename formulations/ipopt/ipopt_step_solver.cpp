@@ -266,8 +266,7 @@ SolveOutcome IpoptStepSolver::solve(const StepView& v, StepProblem& problem, Vec
   if (!ok) {
     // The run's first solve starts cold, far from its solution: with
     // Ipopt's own initial barrier parameter (0.1), not the small one meant
-    // for a start from the last velocities (mu_init; docs/notes.md, "What
-    // moved").
+    // for a start from the last velocities (mu_init; docs/decisions.md, "ipopt").
     if (cold) {
       Vec R;
       problem.residual(u, R, last_scale_);

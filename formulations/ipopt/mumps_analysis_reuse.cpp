@@ -44,7 +44,7 @@ std::int64_t nonzeros(const DMUMPS_STRUC_C* id) { return id->nnz > 0 ? id->nnz :
 // no ordering on the transversal's compressed graph (ICNTL(12) = 0 or 1).
 // Any other is analysed every time: an ordering from another matrix's
 // values is a different factorization, and on the backward extrusion a
-// much slower one (docs/notes.md).
+// much slower one (docs/decisions.md).
 bool pattern_only(const DMUMPS_STRUC_C* id) {
   return id->icntl[4] == 0 && id->icntl[17] == 0 && id->irn && id->jcn && id->icntl[5] == 0 && id->icntl[7] == 0 &&
          (id->icntl[11] == 0 || id->icntl[11] == 1);

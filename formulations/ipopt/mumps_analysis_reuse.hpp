@@ -6,7 +6,7 @@
 // warm_start_same_structure or not, so every friction pass of a step
 // (ipopt_enforcement.hpp) had MUMPS analyse the same pattern again: 867
 // analyses for 237 programs on Test II's die, 4.2 % of the run's perf
-// samples (1.2 % with the reuse; docs/notes.md). This file defines the C entry point dmumps_c in the
+// samples (1.2 % with the reuse; docs/decisions.md). This file defines the C entry point dmumps_c in the
 // executable, which the dynamic linker binds libipopt's calls to ahead of
 // libdmumps_seq's (the executable comes first in the lookup scope). It
 // forwards every call to MUMPS's own dmumps_c (dlsym RTLD_NEXT) except an

@@ -145,7 +145,7 @@ bool StepNlp::intermediate_callback(Ipopt::AlgorithmMode, Ipopt::Index iter, Ipo
   // overshoot: where Ipopt's line search cut the last step, the next
   // Hessian is the secant tangent (positive definite; a quasi-Newton step
   // for Ipopt). The backward extrusion: 12917 -> 5677 Ipopt iterations,
-  // its warm starts no longer lost in line searches (docs/notes.md).
+  // its warm starts no longer lost in line searches (docs/decisions.md).
   secant_next_ = secant_after_cut_ && iter > 0 && alpha_pr < 1;
   return true;
 }

@@ -39,7 +39,7 @@
 //  - only from master edges facing the slave edge by more than 120
 //    degrees, so a punch's side beyond its corner does not move the
 //    interval's end off the corner.
-// Measured (docs/notes.md, "Dual mortar on the covered interval"):
+// Measured (docs/decisions.md, "Mortar"):
 //  - role_switch_flat_punch: the two pass load to 1e-4, with no jump;
 //  - Test II's cone: the rigid die's load from the first touch, to 3e-6;
 //  - Test I: two half passes match the single action with mortar dies to
@@ -103,7 +103,7 @@ class Mortar final : public ContactDiscretization {
   // stays it unless its mean edge has become more than kKeepSlave times
   // the other's. Swapped, the old master's nodes, which one pass leaves
   // inside the slave (Test I: 0.006 h at 1 mm), would be the new rows, and
-  // two equal spheres swapped at a remesh by round-off (docs/notes.md).
+  // two equal spheres swapped at a remesh by round-off (docs/decisions.md).
   void take_over(const ContactZones& zones) override;
 
  private:

@@ -11,7 +11,7 @@
 //   L) h / 1e4 (p = sigma_ref). An instantaneous solve (no gap yet) lets
 //   the bodies approach at p / beta_hat, 1e-4 of v_ref h / L: the two-pass
 //   patch test's first solve is uniform to 4e-4 with it, 3.5e-3 with 1e3
-//   (docs/notes.md); Newton's cost barely changes (Test II: +5 %).
+//   (docs/decisions.md); Newton's cost barely changes (Test II: +5 %).
 #pragma once
 #include <string>
 #include <vector>
