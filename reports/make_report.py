@@ -136,7 +136,7 @@ def verification(out):
         ver = json.load(f)
     rows = [[c["scene"], c["formulation"] + (" / " + c["variant"] if c.get("variant") else ""),
              c["metric"], "%.3e" % c["value"] if "value" in c else "-", "%.1e" % c["tolerance"],
-             ("pass" if c["pass"] else "FAIL") + (": " + c["note"] if c.get("note") else ""), c.get("issue", "")]
+             ("pass" if c["pass"] else "FAIL") + (": " + c["note"] if c.get("note") else ""), c.get("against", "")]
             for c in ver["checks"]]
     return ver, rows
 
@@ -175,7 +175,7 @@ def main(out):
              "strokes: the largest, the median, and the largest past the first quarter of the stroke (early on, "
              "nodes land one ring at a time at slightly different strokes in different formulations). " + RULE)
     ver, ver_rows = verification(out)
-    ver_header = ["scene", "formulation", "metric", "value", "tolerance", "result", "issue"]
+    ver_header = ["scene", "formulation", "metric", "value", "tolerance", "result", "against"]
     ver_title = "Verification checks: %d, %d failed" % (len(ver_rows), ver["failed"] if ver else 0)
     ver_html = ("<h2 id='verification'>%s</h2>%s" % (ver_title, html_table(ver_header, ver_rows))
                 if ver_rows else "")

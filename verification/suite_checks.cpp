@@ -30,7 +30,10 @@ std::vector<SuiteCheck> read_suite_checks(const std::string& path) {
     c.formulation = s.text("formulation", std::nullopt);
     c.variant = s.text("variant", "");
     c.metric = s.choice("metric", std::nullopt, kMetrics);
-    c.issue = s.text("issue", "");
+    c.verifies = s.text("verifies", "");
+    c.against = s.text("against", "");
+    c.source = s.text("source", "");
+    c.why = s.text("why", "");
     if (c.metric == CheckMetric::LoadDifference) {
       c.reference = s.text("reference", std::nullopt);
       c.column = s.text("load", std::nullopt);

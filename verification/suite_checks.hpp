@@ -18,6 +18,11 @@
 //            load (verification/curve_comparison.hpp, curve_jump; from
 //            `from` mm of stroke), at most `tolerance`;
 //   metric = "finished": the run finished (summary.json status).
+// Each check may say what it verifies (`verifies`), the kind of reference
+// it is held against (`against`: an exact solution, another formulation,
+// the Kuhn-Tucker conditions...), where that reference or its tolerance
+// comes from (`source`) and why the tolerance is what it is (`why`); the
+// shipped checks say all four (docs/verification.md lists them).
 #pragma once
 #include <string>
 #include <vector>
@@ -32,7 +37,8 @@ const std::string& metric_name(CheckMetric metric);
 struct SuiteCheck {
   std::string scene, formulation, variant;
   CheckMetric metric = CheckMetric::Finished;
-  std::string reference, reference_scene, reference_variant, reference_load, column, floor, issue;
+  std::string reference, reference_scene, reference_variant, reference_load, column, floor;
+  std::string verifies, against, source, why;  // documentation, as above
   double tolerance = 0, from = 0, stroke_tolerance = 0;
 };
 

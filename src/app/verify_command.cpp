@@ -51,7 +51,7 @@ int verify_command(const std::string& suite_dir, const std::string& checks_file,
                   (c.formulation + (c.variant.empty() ? "" : " " + c.variant)).c_str(), metric.c_str(), r.value,
                   c.tolerance, r.pass ? "pass" : "FAIL", r.note.empty() ? "" : ": ", r.note.c_str());
     toml::table t{{"scene", c.scene}, {"formulation", c.formulation}, {"variant", c.variant}, {"metric", metric},
-                  {"tolerance", c.tolerance}, {"pass", r.pass}, {"issue", c.issue}};
+                  {"tolerance", c.tolerance}, {"pass", r.pass}, {"verifies", c.verifies}, {"against", c.against}};
     if (std::isfinite(r.value)) t.insert("value", r.value);  // never NaN in a result file
     if (!r.note.empty()) t.insert("note", r.note);
     rows.push_back(std::move(t));

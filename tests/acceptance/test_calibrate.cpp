@@ -88,6 +88,19 @@ bool finished(const std::string& out) {
 }  // namespace
 
 // Ring calibration table at m = 0.3 (friction factor), recovered from m = 0.1.
+//~ feature = "studies"
+//~ scene = "ring_compression at mesh factor 0.5 to 20 %: a target table made at m = 0.3, fitted from m = 0.1"
+//~ source = "Male and Cockcroft 1964 (friction from the ring's inner diameter)"
+//~ [[check]]
+//~ what = "fitted m against the m that made the target"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "0.01"
+//~ why = "the target is exact for m = 0.3 on this mesh; 0.01 of m is finer than a ring chart is read"
+//~ [[check]]
+//~ what = "misfit at x0 above 1 point; at the fit below 1 % of it"
+//~ compares = "expected behaviour"
+//~ tolerance = "> 1.0; < 1e-2 x"
+//~ why = "the target must be sensitive to m, or a recovered value proves nothing"
 TEST(Calibrate, RecoversFrictionFactorFromRingTable) {
   const std::string made =
       run_case("ring_compression", kRing + " --set stepping.end_stroke=2.0 --set dies.top_die.friction.m=0.3", 0,
@@ -106,6 +119,19 @@ TEST(Calibrate, RecoversFrictionFactorFromRingTable) {
 }
 
 // Load-stroke table at Coulomb mu = 0.08, recovered from mu = 0.2.
+//~ feature = "studies"
+//~ scene = "ring_compression, Coulomb, mesh factor 0.5 to 20 %: a load-stroke target made at mu = 0.08, fitted from mu = 0.2"
+//~ source = "paper eq. 10-12 (Coulomb friction)"
+//~ [[check]]
+//~ what = "fitted mu against the mu that made the target"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "0.01"
+//~ why = "the target is exact for mu = 0.08 on this mesh; 0.01 of mu is finer than friction is known in practice"
+//~ [[check]]
+//~ what = "relative misfit at x0 above 0.03; at the fit below 1 % of it"
+//~ compares = "expected behaviour"
+//~ tolerance = "> 0.03; < 1e-2 x"
+//~ why = "the load must be sensitive to mu, or a recovered value proves nothing"
 TEST(Calibrate, RecoversCoulombFrictionFromLoadStrokeTable) {
   const std::string law = " --set dies.top_die.friction.law=coulomb";
   const std::string made =
@@ -121,6 +147,14 @@ TEST(Calibrate, RecoversCoulombFrictionFromLoadStrokeTable) {
 
 // The smallest beta_factor meeting the tolerance: its run meets it, half of
 // it does not.
+//~ feature = "studies"
+//~ scene = "upsetting_dies_frictionless_axisym, mesh factor 0.5, to 1 mm: --auto-beta 1e-4"
+//~ source = "paper eq. 7-8 (the penalty's penetration falls as 1 / beta)"
+//~ [[check]]
+//~ what = "penetration at the beta found; at half of it"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "<= 1e-4 at the beta found; > 1e-4 at half"
+//~ why = "the smallest beta meeting the tolerance: measured 9.9999e-5 at it, 2.0e-4 at half (first order in 1 / beta)"
 TEST(Calibrate, AutoBetaFindsTheSmallestPenalty) {
   const double tol = 1e-4;
   const std::string scene = " --set run.mesh_factor=0.5 --set stepping.end_stroke=1.0";

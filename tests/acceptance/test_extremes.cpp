@@ -67,6 +67,19 @@ class Extremes : public ::testing::TestWithParam<std::string> {};
 
 }  // namespace
 
+//~ feature = "extremes"
+//~ scene = "every case of cases/extremes, its runs and variants (one ctest entry per case)"
+//~ source = "each case's [expect] tables (verification/expectations.hpp)"
+//~ [[check]]
+//~ what = "each run: exit 0 and finished, or exit 3 and stopped; no non-finite number in its output"
+//~ compares = "expected behaviour"
+//~ tolerance = "exit 0 or 3"
+//~ why = "an extreme may stop, but never crash, fail as bad input, or write NaN"
+//~ [[check]]
+//~ what = "each expectation of the case (outcome, bounds on measured values)"
+//~ compares = "expected behaviour"
+//~ tolerance = "as the case states"
+//~ why = "the tolerance and its reason sit in the case file beside the scene they describe"
 TEST_P(Extremes, EndAsTheirCasesSay) {
   const ExpectedCase c = read_expected_case(GetParam());
   const std::string scene = fs::path(GetParam()).stem().string();

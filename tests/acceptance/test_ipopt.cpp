@@ -92,6 +92,29 @@ int run(const std::string& case_path, const std::string& out, const std::string&
 
 }  // namespace
 
+//~ feature = "ipopt"
+//~ scene = "one plane-strain element, perfectly plastic (K = 100 MPa), on a floor die, a wall die receding"
+//~ source = "homogeneous plane-strain compression: sigma_yy = -(2 / sqrt 3) K, each floor node carries (2 / sqrt 3) K times its lumped length (Kobayashi, Oh and Altan 1989, sec. 5.2)"
+//~ [[check]]
+//~ what = "every floor node's multiplier (contact pressure), every recorded step"
+//~ compares = "exact solution"
+//~ tolerance = "1e-6 (relative)"
+//~ why = "the multiplier is the exact nodal force of a uniform stress; 1e-6 is Ipopt's convergence with margin"
+//~ [[check]]
+//~ what = "floor load = 2 w sigma_yy (whole model); top load equals minus the floor's"
+//~ compares = "conservation"
+//~ tolerance = "1e-6 of the exact load"
+//~ why = "equilibrium of the block to the solver's precision"
+//~ [[check]]
+//~ what = "the receding wall's force"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-9 of the load"
+//~ why = "a separating row carries nothing (complementarity): only round-off"
+//~ [[check]]
+//~ what = "kkt_primal, kkt_complementarity, kkt_stationarity at every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-9 (primal), 1e-8 (others)"
+//~ why = "the exact enforcement's targets (see the section's introduction)"
 TEST(Ipopt, FloorMultipliersAreTheExactNodalForcesAndTheRecedingWallCarriesNothing) {
   const std::string dir = test_out_dir();
   ASSERT_EQ(run(write_case(dir, kBlock), dir + "/out", ""), 0);
@@ -123,6 +146,14 @@ TEST(Ipopt, FloorMultipliersAreTheExactNodalForcesAndTheRecedingWallCarriesNothi
   }
 }
 
+//~ feature = "ipopt"
+//~ scene = "the same block with a ceiling die closing onto a floor node"
+//~ source = "Waechter and Biegler 2006 (Ipopt's infeasibility detection)"
+//~ [[check]]
+//~ what = "exit code 3, the log naming Ipopt and the infeasibility, no NaN in history.csv"
+//~ compares = "expected behaviour"
+//~ tolerance = "exit 3"
+//~ why = "a node that must move up and down at once has no solution: the run stops saying why, and writes no NaN"
 TEST(Ipopt, ContradictoryContactsAreReportedAsInfeasible) {
   // A ceiling die over the bottom-right node, moving down onto the floor:
   // that node must move up (floor) and down (ceiling) at once.
@@ -152,6 +183,29 @@ die = "ceiling"
   EXPECT_EQ(ss.str().find("nan"), std::string::npos);
 }
 
+//~ feature = "ipopt"
+//~ scene = "upsetting_dies_frictionless_axisym under ipopt and direct"
+//~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2 (the exact load)"
+//~ [[check]]
+//~ what = "die load against the exact load, every step"
+//~ compares = "exact solution"
+//~ tolerance = "5e-3 (relative)"
+//~ why = "measured 1.3e-5; the kernel's tolerance for homogeneous upsetting"
+//~ [[check]]
+//~ what = "die load against direct's, every step"
+//~ compares = "another formulation"
+//~ tolerance = "1e-3 (relative)"
+//~ why = "both solve the same discrete Kuhn-Tucker problem (measured 5.3e-10); 1e-3 catches a row lost or pressing the wrong way"
+//~ [[check]]
+//~ what = "kkt_primal (penetration / h), every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-9"
+//~ why = "an exact enforcement meets its gap to solver precision: Newton's velocity tolerance leaves about 1e-9 of h over a step"
+//~ [[check]]
+//~ what = "the other Kuhn-Tucker residuals (dual, complementarity, stationarity), every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-8"
+//~ why = "two decades above Ipopt's own tol (1e-10 of its scaled NLP error), whose scale can be larger than the checked measure's"
 TEST(Ipopt, FlatDieUpsettingMatchesExactLoadAndDirect) {
   const std::string ip = run_case("upsetting_dies_frictionless_axisym", "--formulation ipopt", 0, "_ipopt");
   const std::string dir = run_case("upsetting_dies_frictionless_axisym", "--formulation direct", 0, "_direct");
@@ -180,6 +234,24 @@ TEST(Ipopt, FlatDieUpsettingMatchesExactLoadAndDirect) {
 // Test I's two spheres (both meshed) to 0.5 mm: the same loads as the
 // penalty formulation's two-pass solution, which follows the single-action
 // sphere to 1e-6 (test_penalty.cpp).
+//~ feature = "ipopt"
+//~ scene = "paper_test1_double_action to 0.5 mm, ipopt against penalty two-pass"
+//~ source = "paper Test I (Fig. 5-7); paper eq. 7-8 (the penalty, which converges to the exact solution)"
+//~ [[check]]
+//~ what = "top punch load against penalty's, every step"
+//~ compares = "another formulation"
+//~ tolerance = "1e-5 (relative)"
+//~ why = "penalty converges to ipopt at first order in 1 / beta: measured 2.9e-7 at the default beta"
+//~ [[check]]
+//~ what = "kkt_primal (penetration / h), every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-9"
+//~ why = "an exact enforcement meets its gap to solver precision: Newton's velocity tolerance leaves about 1e-9 of h over a step"
+//~ [[check]]
+//~ what = "the other Kuhn-Tucker residuals (dual, complementarity, stationarity), every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-8"
+//~ why = "two decades above Ipopt's own tol (1e-10 of its scaled NLP error), whose scale can be larger than the checked measure's"
 TEST(Ipopt, TwoSpheresFollowThePenaltySolution) {
   const std::string set = "--set stepping.end_stroke=0.5";
   const std::string ip = run_case("paper_test1_double_action", "--formulation ipopt " + set, 0, "_ipopt");
@@ -204,6 +276,24 @@ TEST(Ipopt, TwoSpheresFollowThePenaltySolution) {
 // objective with its bound fixed per solve, updated from the multipliers
 // (friction factor m = 0.1; Coulomb mu = 0.1 by the fixed point), against
 // `direct` on upsetting with a rough top die.
+//~ feature = "ipopt"
+//~ scene = "upsetting_friction to 2 mm, friction factor m = 0.1 and Coulomb mu = 0.1, ipopt against direct"
+//~ source = "paper eq. 10-12 (arctan friction; ipopt holds it in the objective with bounds from the multipliers)"
+//~ [[check]]
+//~ what = "die load against direct's, every step"
+//~ compares = "another formulation"
+//~ tolerance = "1e-5 (relative)"
+//~ why = "measured 5.6e-10 (m) and 6.4e-9 (mu); 1e-5 leaves the Coulomb fixed point's tolerance (1e-6) room"
+//~ [[check]]
+//~ what = "the friction bounds' change over the last pass (friction_change)"
+//~ compares = "expected behaviour"
+//~ tolerance = "1e-6"
+//~ why = "the fixed point's stopping tolerance (friction_tolerance)"
+//~ [[check]]
+//~ what = "Kuhn-Tucker residuals (primal, complementarity, stationarity)"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-8"
+//~ why = "as every ipopt run"
 TEST(Ipopt, DieFrictionMatchesDirect) {
   const std::string set = " --set stepping.end_stroke=2.0";
   for (const std::string variant : {"", "mu0.1"}) {
@@ -234,6 +324,24 @@ TEST(Ipopt, DieFrictionMatchesDirect) {
 // solved to loose_tol: upsetting mu = 0.1 to 3 mm in fewer passes and
 // Ipopt iterations than from the last step's forces and to tol, at the
 // same loads (the fixed point is converged to friction_tolerance either way).
+//~ feature = "ipopt"
+//~ scene = "upsetting_friction mu0.1 to 3 mm, ipopt with and without predicted bounds and loose passes"
+//~ source = "paper eq. 10-12 (the Coulomb bound's fixed point)"
+//~ [[check]]
+//~ what = "die load against the runs from the last step's forces and with loose_tol = tol, every step"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "1e-7 (relative)"
+//~ why = "the fixed point is converged to friction_tolerance either way: only its tolerance separates them"
+//~ [[check]]
+//~ what = "friction passes: predicted bounds below 0.8 of the plain start's; Ipopt iterations fewer than with loose_tol = tol"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "< 0.8 x passes"
+//~ why = "the option exists to save passes; a fifth is the least gain that justifies it"
+//~ [[check]]
+//~ what = "friction_change of both runs"
+//~ compares = "expected behaviour"
+//~ tolerance = "1e-6"
+//~ why = "the fixed point's stopping tolerance"
 TEST(Ipopt, PredictedBoundsAndLoosePassesKeepTheLoadsInFewerPasses) {
   const std::string set = "--formulation ipopt --variant mu0.1 --set stepping.end_stroke=3.0";
   const History fast = read_history(run_case("upsetting_friction", set, 0, "_fast") + "/history.csv");
@@ -313,6 +421,19 @@ void expect_first_order(const std::vector<double>& diff, const std::vector<std::
 
 // The penalty solution converges to Ipopt's as beta grows: ring compression
 // with m = 0.1 to 0.5 mm at beta 1e-3, 1e-1 and 1e1 times the default.
+//~ feature = "ipopt"
+//~ scene = "ring_compression m0.1 to 0.5 mm, penalty at 1e-3, 1e-1, 1e1 x the default beta against ipopt"
+//~ source = "paper eq. 7-8: the penalty's compliance is O(1 / beta)"
+//~ [[check]]
+//~ what = "observed order of the load difference per decade of beta"
+//~ compares = "another formulation"
+//~ tolerance = "1.0 +- 0.1"
+//~ why = "measured 1.00 per decade down to 3e-9 on the whole ring; 0.1 allows Ipopt's tolerance at the finest"
+//~ [[check]]
+//~ what = "load difference at the largest beta"
+//~ compares = "another formulation"
+//~ tolerance = "1e-7 (relative)"
+//~ why = "far from Ipopt's own tolerance: the penalty solution reaches the exact one"
 TEST(Ipopt, PenaltyConvergesToItAsBetaGrows) {
   const std::vector<std::string> factors{"1e-3", "1e-1", "1e1"};
   const auto diff =
@@ -324,6 +445,19 @@ TEST(Ipopt, PenaltyConvergesToItAsBetaGrows) {
 // 0.5 mm, where nodes land on the cone one by one: the sticking cap k w
 // that bounds mu N is set over the contact area of the solution in both
 // formulations, so each landing step converges too.
+//~ feature = "ipopt"
+//~ scene = "paper_test2_die to 0.5 mm, Coulomb mu = 0.1, penalty at 1e-2, 1, 1e2 x the default beta against ipopt"
+//~ source = "paper eq. 7-8 and 10-12; paper Test II (Fig. 8-11)"
+//~ [[check]]
+//~ what = "observed order of the load difference per decade of beta"
+//~ compares = "another formulation"
+//~ tolerance = "1.0 +- 0.1"
+//~ why = "measured 1.000 and 0.986; a stale sticking cap in penalty gave order -0.01 (9.5e-3 at every beta), which this catches"
+//~ [[check]]
+//~ what = "load difference at the largest beta"
+//~ compares = "another formulation"
+//~ tolerance = "1e-7 (relative)"
+//~ why = "the sticking cap k w is set over the contact area of the solution in both, so each landing step converges too"
 TEST(Ipopt, PenaltyConvergesToItUnderCoulombFriction) {
   const std::vector<std::string> factors{"1e-2", "1e0", "1e2"};
   const auto diff = penalty_to_ipopt("paper_test2_die", " --set stepping.end_stroke=0.5", "punch.Fy", factors);
@@ -333,6 +467,14 @@ TEST(Ipopt, PenaltyConvergesToItUnderCoulombFriction) {
 // Test II's rigid die to 0.3 mm: the first solve (a point contact carrying
 // 180 N, far smaller than the forces at Ipopt's starting point) meets the
 // checked complementarity too, and every residual holds to 1e-8.
+//~ feature = "ipopt"
+//~ scene = "paper_test2_die under ipopt to 0.3 mm"
+//~ source = "paper eq. 6; paper Test II (Fig. 8-11)"
+//~ [[check]]
+//~ what = "complementarity at the first solve (a point contact carrying 180 N), and every residual at every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-8 (complementarity, dual, stationarity), 1e-9 (primal)"
+//~ why = "the first solve's forces are far below those at Ipopt's starting point, which set its scale; the solve is repeated from its own solution when it misses 1e-8 (measured 3.6e-11 at the first solve, 3.6e-9 at worst)"
 TEST(Ipopt, TestTwoDieFirstContactMeetsTheKuhnTuckerConditions) {
   const std::string ip = run_case("paper_test2_die", "--formulation ipopt --set stepping.end_stroke=0.3");
   const History h = read_history(ip + "/history.csv");
@@ -357,6 +499,19 @@ TEST(Ipopt, TestTwoDieFirstContactMeetsTheKuhnTuckerConditions) {
 // multipliers, a step's first solve from the last forces) give the plain
 // starts' loads in fewer Ipopt iterations, and are no farther than they
 // from a solution to a hundred times tighter tolerances.
+//~ feature = "ipopt"
+//~ scene = "paper_test2_die to 0.5 mm, Coulomb, warm against plain starts and a run to 100 x tighter tolerances"
+//~ source = "Waechter and Biegler 2006 (warm starts of the interior point)"
+//~ [[check]]
+//~ what = "punch load, warm against plain starts"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "1e-7 (relative)"
+//~ why = "the same solution to Ipopt's and the fixed point's tolerances"
+//~ [[check]]
+//~ what = "warm starts no farther than plain ones from the tight run; fewer than 0.6 of the iterations"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "<= plain's error; < 0.6 x iterations"
+//~ why = "a warm start must not trade accuracy for speed; 0.6 is the gain that justifies the option"
 TEST(Ipopt, WarmStartsGiveThePlainStartsLoadsInFewerIterations) {
   const std::string set = " --formulation ipopt --set stepping.end_stroke=0.5 --set contact.landing_control=false";
   const History warm = read_history(run_case("paper_test2_die", set, 0, "_warm") + "/history.csv");
@@ -392,6 +547,19 @@ TEST(Ipopt, WarmStartsGiveThePlainStartsLoadsInFewerIterations) {
 // noise (kkt_round_off: R at u moved by one ulp) is above 1e-8 at the first
 // solve, and stationarity is within it at every step; the contact
 // conditions hold to 1e-8.
+//~ feature = "ipopt"
+//~ scene = "paper_test2_virtual_rigid under ipopt to 0.15 mm"
+//~ source = "paper Test II (Fig. 8-11); the residual's round-off floor kkt_round_off (R at u moved by one ulp)"
+//~ [[check]]
+//~ what = "stationarity / max(1e-8, kkt_round_off), every step; the floor above 1e-7 at the first solve"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "<= 1.0"
+//~ why = "the virtual rigid body's stiffness (1e5 of the billet's) puts the residual's own evaluation noise above 1e-8 (3e-6 at the first step): no solver can go below it, so each step is held to the larger of the two (measured: at most 0.40 of it)"
+//~ [[check]]
+//~ what = "contact residuals (primal, dual, complementarity)"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-8"
+//~ why = "the contact conditions are not affected by the floor"
 TEST(Ipopt, VirtualRigidBodyStationarityIsAtItsRoundOffFloor) {
   const std::string ip = run_case("paper_test2_virtual_rigid", "--formulation ipopt --set stepping.end_stroke=0.15");
   const History h = read_history(ip + "/history.csv");
@@ -418,6 +586,19 @@ TEST(Ipopt, VirtualRigidBodyStationarityIsAtItsRoundOffFloor) {
 // (4.5e-5); those solves are taken, and the run reaches 0.15 mm (it
 // stopped at step 1). Where the residual's round-off is below the checks'
 // tolerances the checks hold as before.
+//~ feature = "ipopt"
+//~ scene = "paper_test2_virtual_rigid with mortar rows at mesh factor 0.5, to 0.15 mm"
+//~ source = "the residual's round-off floor kkt_round_off; Puso and Laursen 2004 (the mortar rows)"
+//~ [[check]]
+//~ what = "dual and complementarity residuals / max(1e-8, 10 x kkt_round_off), every step; the run reaches 0.15 mm"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "<= 1.0 with 10 x the floor"
+//~ why = "at the first touch nothing is loaded (the rows' weighted gaps close over a step or two) and every force is round-off of the force floor: Ipopt may stall at its acceptable point, and such a solve is taken when its residuals are within ten times the residual's own round-off"
+//~ [[check]]
+//~ what = "kkt_primal, every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-9"
+//~ why = "the gap holds to solver precision even there"
 TEST(Ipopt, AStepWithNothingLoadedIsSolvedToTheResidualsRoundOff) {
   const std::string ip = run_case("paper_test2_virtual_rigid",
                                   "--formulation ipopt --set contact.discretization=mortar --set run.mesh_factor=0.5 "
@@ -444,6 +625,19 @@ TEST(Ipopt, AStepWithNothingLoadedIsSolvedToTheResidualsRoundOff) {
 // of the analyses; with MUMPS's value-dependent analysis (Ipopt's default
 // mumps_permuting_scaling = 7) nothing is reused and the loads stay within
 // 1e-9 of the largest.
+//~ feature = "ipopt"
+//~ scene = "paper_test2_die to 0.5 mm, MUMPS analyses reused or not, and MUMPS's value-dependent analysis"
+//~ source = "formulations/ipopt/mumps_analysis_reuse.hpp"
+//~ [[check]]
+//~ what = "every history column, with and without reuse"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "equal bits"
+//~ why = "reusing the symbolic analysis of the same pattern changes no arithmetic"
+//~ [[check]]
+//~ what = "analyses reused more than twice those done; with mumps_permuting_scaling = 7 none reused and the loads within 1e-9 of the largest"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "> 2 x; 1e-9 of the largest load"
+//~ why = "a value-dependent analysis permutes differently: only round-off may change"
 TEST(Ipopt, ReusedMumpsAnalysesGiveTheSameBits) {
   const std::string set = "--formulation ipopt --set stepping.end_stroke=0.5";
   const auto run = [&](const std::string& suffix, const std::string& more) {
@@ -537,6 +731,24 @@ ExactPair exact_pair(const std::string& scene, const std::string& variant, const
 // Die loads and the ring's inner-diameter change within 1e-6, the same
 // rows sticking and slipping at every step, and ipopt's friction law met
 // to 1e-8 of each row's bound.
+//~ feature = "ssn"
+//~ scene = "ring_compression m0.1 and m1, upsetting_friction mu0.1, exact friction, to 1 mm (20 steps), ipopt against ssn"
+//~ source = "Hueber, Stadler and Wohlmuth 2008 (ssn's complementarity functions); Waechter and Biegler 2006 (ipopt's slack rows): two implementations of the same conditions"
+//~ [[check]]
+//~ what = "die load and the ring's inner-diameter change, every step"
+//~ compares = "another formulation"
+//~ tolerance = "1e-6 (relative)"
+//~ why = "both solve the same exact conditions to 1e-8; 1e-6 is their tolerances carried through the steps with margin"
+//~ [[check]]
+//~ what = "the same rows sticking and slipping at every step; the last step's stick_slip field node for node"
+//~ compares = "another formulation"
+//~ tolerance = "equal"
+//~ why = "the active sets of an exact law are determined by the solution"
+//~ [[check]]
+//~ what = "ipopt's friction law (kkt_friction, kkt_stick_slip) and contact residuals"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-8 (friction, complementarity), 1e-9 (primal)"
+//~ why = "the exact enforcements' targets"
 TEST(Ipopt, ExactFrictionAgreesWithSsn) {
   struct Case {
     std::string scene, variant;

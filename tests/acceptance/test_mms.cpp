@@ -10,6 +10,19 @@ using namespace rpfem;
 
 class Mms : public ::testing::TestWithParam<Geometry> {};
 
+//~ feature = "mms"
+//~ scene = "verification/mms.cpp on 4 x 4, 8 x 8, 16 x 16 and 32 x 32 meshes, plane strain and axisymmetric"
+//~ source = "Roache 2002 (method of manufactured solutions); bilinear elements' L2 order 2"
+//~ [[check]]
+//~ what = "observed L2 order of the velocity error between successive meshes"
+//~ compares = "manufactured solution"
+//~ tolerance = "order >= 1.8"
+//~ why = "the asymptotic order of bilinear quadrilaterals is 2; 1.8 allows the coarsest pair's pre-asymptotic error and fails on a first-order error (a wrong quadrature, B matrix or load)"
+//~ [[check]]
+//~ what = "Newton converges on every mesh"
+//~ compares = "expected behaviour"
+//~ tolerance = "converged"
+//~ why = "an unconverged solve has no error to measure"
 TEST_P(Mms, VelocityConvergesAtSecondOrder) {
   std::vector<MmsResult> r;
   for (int n : {4, 8, 16, 32}) {

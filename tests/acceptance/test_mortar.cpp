@@ -34,6 +34,12 @@ double largest(const History& h, const std::string& column) {
 
 // Run a's load against run b's, within `stroke_tolerance` of a landing
 // (curve_difference), and run a's rows' gaps within 1e-3 h.
+//~ helper = "expect_follows"
+//~ [[check]]
+//~ what = "rows' penetration / h"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-3"
+//~ why = "a row's weighted gap closed to 1e-3 of h moves no load by a visible amount, as for the penalty's node rows"
 void expect_follows(const std::string& what, const std::string& a, const std::string& load_a, const std::string& b,
                     const std::string& load_b, double stroke_tolerance, double tolerance) {
   const History ha = read_history(a + "/history.csv"), hb = read_history(b + "/history.csv");
@@ -48,6 +54,29 @@ void expect_follows(const std::string& what, const std::string& a, const std::st
 
 }  // namespace
 
+//~ feature = "mortar"
+//~ scene = "patch_two_blocks with mortar rows: penalty, auglag, ipopt x consistent, lumped, dual weights x either block as the slave"
+//~ source = "Taylor and Papadopoulos 1991 (contact patch test); Puso and Laursen 2004; Wohlmuth 2000 (dual weights)"
+//~ [[check]]
+//~ what = "strain rate uniform: (max - min) / max over the elements, every recorded step"
+//~ compares = "exact solution"
+//~ tolerance = "1e-6"
+//~ why = "mortar rows pass the patch test exactly: the rate is uniform to Newton's tolerance"
+//~ [[check]]
+//~ what = "contact pressure uniform over the pressing nodes, every step"
+//~ compares = "exact solution"
+//~ tolerance = "1e-6"
+//~ why = "the exact interface pressure is uniform; mortar rows transmit it without the one-pass node-to-segment error"
+//~ [[check]]
+//~ what = "uniform rate against v / H (penalty: after the first solve)"
+//~ compares = "exact solution"
+//~ tolerance = "2e-6"
+//~ why = "the uniform rate is off v / H by the volumetric penalty's compressibility, 1.1e-6 to 1.4e-6 here as in one block without contact; the penalty's compliance adds 1e-5 at the first, instantaneous solve, which is left out"
+//~ [[check]]
+//~ what = "action equals reaction"
+//~ compares = "conservation"
+//~ tolerance = "1e-9"
+//~ why = "exact by construction: round-off only"
 TEST(Mortar, PatchTestUnderEveryEnforcementWithEitherSlave) {
   for (const std::string weights : {"consistent", "lumped", "dual"})
     for (const std::string enf : {"penalty", "auglag", "ipopt"})
@@ -95,6 +124,19 @@ TEST(Mortar, PatchTestUnderEveryEnforcementWithEitherSlave) {
 // face must give the node rows' load at every step, the billet's corner
 // (its normal tilted by the side) included. `direct` cannot hold such rows
 // and says so.
+//~ feature = "mortar"
+//~ scene = "upsetting_dies_frictionless_axisym, penalty with mortar rows on the die (contact.dies = mortar) against node rows"
+//~ source = "Puso and Laursen 2004; Kobayashi, Oh and Altan 1989, sec. 5.2 (the face stays on the die)"
+//~ [[check]]
+//~ what = "die load at every step"
+//~ compares = "another formulation"
+//~ tolerance = "1e-6 (relative)"
+//~ why = "the face stays on the flat die, so rows weighted over it must give the node rows' load (measured 4.6e-9), the billet's corner included"
+//~ [[check]]
+//~ what = "direct asked for mortar rows on a die: exit 2 naming contact.dies"
+//~ compares = "expected behaviour"
+//~ tolerance = "exit 2"
+//~ why = "direct cannot hold such rows and must say so as bad input"
 TEST(Mortar, RowsAgainstARigidDieGiveTheNodeRowsLoad) {
   const std::string node = run_case("upsetting_dies_frictionless_axisym", "--formulation penalty", 0, "_node");
   const std::string mortar = run_case("upsetting_dies_frictionless_axisym",
@@ -125,6 +167,19 @@ TEST(Mortar, RowsAgainstARigidDieGiveTheNodeRowsLoad) {
 // other at every recorded step although the split of the stroke between
 // them is a stiff mode (one pass tips it: relative L2 differences of 2e-2
 // to 7.7 in the strain rate over the stroke, docs/notes.md).
+//~ feature = "mortar"
+//~ scene = "paper_test1_double_action, variant mortar_both (two half passes), to 1 mm"
+//~ source = "paper Test I (Fig. 5-7): symmetric fields about the contact plane; Puso and Laursen 2004"
+//~ [[check]]
+//~ what = "lower sphere mirrored onto the upper: relative L2 of strain rate and velocity, every recorded step"
+//~ compares = "exact solution"
+//~ tolerance = "1e-3"
+//~ why = "the penalty's mirror tolerance (PaperTest1); measured 9e-6, Newton's tolerance amplified by the stiff split mode; one pass tips the split (2e-2 to 7.7)"
+//~ [[check]]
+//~ what = "rows' penetration / h"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-3"
+//~ why = "as every penalty scene"
 TEST(Mortar, TwoHalfPassesKeepTestIMirrored) {
   const std::string dir = run_case("paper_test1_double_action",
                                    "--variant mortar_both --set stepping.end_stroke=1.0 --set stepping.output_every=25");
@@ -158,6 +213,19 @@ TEST(Mortar, TwoHalfPassesKeepTestIMirrored) {
 // node does. Its load rises without a jump (one pass node-to-segment drops
 // 20 % where the roles switch; consistent mortar rows 2 % at the first
 // step) and lies on two pass's at every step.
+//~ feature = "mortar"
+//~ scene = "role_switch_flat_punch, one pass with dual mortar rows, against node-to-segment two_pass"
+//~ source = "Puso and Laursen 2004; Wohlmuth 2000 (dual rows); Hallquist, Goudreau and Benson 1985 (the one-pass roles mortar replaces)"
+//~ [[check]]
+//~ what = "step-to-step load jump beyond the trend of neighbouring steps"
+//~ compares = "expected behaviour"
+//~ tolerance = "1e-2 (relative)"
+//~ why = "measured 1.3e-3; one pass node to segment drops 20 % where the roles switch, consistent mortar rows 2 % at the first step; 1 % is well above a steady rise's curvature"
+//~ [[check]]
+//~ what = "load against two pass's, point by point"
+//~ compares = "another formulation"
+//~ tolerance = "1e-2 (relative)"
+//~ why = "dual rows measure the gap at the punch's corner as two pass's corner node does: measured 4.1e-5 apart; 1 % catches the one-pass drops"
 TEST(Mortar, FlatPunchCornerWithoutJumpOnTwoPassLoad) {
   const std::string mortar = run_case("role_switch_flat_punch", "--discretization mortar", 0, "_mortar");
   const std::string two = run_case("role_switch_flat_punch", "--variant two_pass", 0, "_two_pass");
@@ -177,6 +245,15 @@ TEST(Mortar, FlatPunchCornerWithoutJumpOnTwoPassLoad) {
 // carries the die's load (consistent rows spread it over the first element,
 // 2.3 times the load). Stroke tolerance: one increment, as the suite's
 // check.
+//~ feature = "mortar"
+//~ scene = "paper_test2_virtual_rigid with dual mortar rows (one pass) against paper_test2_die (direct)"
+//~ source = "paper Test II (Fig. 8-11); Wohlmuth 2000 (dual rows)"
+//~ uses = ["expect_follows"]
+//~ [[check]]
+//~ what = "ram load against the die's punch load, stroke band 0.05 mm (one increment)"
+//~ compares = "another formulation"
+//~ tolerance = "2e-2 (relative)"
+//~ why = "the dual row of the axis node reads that node's own gap, so the point contact carries the die's load from the first touch (consistent rows spread it over the first element: 2.3 times the load); a row's gap closes over a step or two, hence one increment of band"
 TEST(Mortar, VirtualRigidPunchGivesTheDiesLoadFromTheFirstTouch) {
   const std::string punch = run_case("paper_test2_virtual_rigid", "--discretization mortar", 0, "_punch");
   const std::string die = run_case("paper_test2_die", "", 0, "_die");
@@ -191,6 +268,15 @@ TEST(Mortar, VirtualRigidPunchGivesTheDiesLoadFromTheFirstTouch) {
 // two half passes of dual mortar against the single action with mortar
 // rows on its die, within one stroke increment of a landing, and the rows'
 // gaps within 1e-3 h.
+//~ feature = "mortar"
+//~ scene = "paper_test1_double_action mortar_both against paper_test1_single_action mortar, to 2.2 mm"
+//~ source = "paper Test I (Fig. 5-7); Puso and Laursen 2004"
+//~ uses = ["expect_follows"]
+//~ [[check]]
+//~ what = "top punch load within a stroke band of 0.01 mm (one increment)"
+//~ compares = "another formulation"
+//~ tolerance = "1e-2 (relative)"
+//~ why = "past 0.9 and 2.1 mm, where an edge at the spheres' rim entering whole once moved the rows 0.008 h into the other sphere; 1 % as the penalty's Test I check"
 TEST(Mortar, TwoHalfPassesFollowTheSingleAction) {
   const std::string both =
       run_case("paper_test1_double_action", "--variant mortar_both --set stepping.end_stroke=2.2", 0, "_both");

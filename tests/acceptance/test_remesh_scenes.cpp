@@ -40,6 +40,27 @@ double largest_abs(const std::vector<double>& v) {
 }
 
 // The checks every remeshed scene must pass; returns its history.
+//~ helper = "check_remeshed_run"
+//~ [[check]]
+//~ what = "the run finishes at its end stroke; at least 3 remeshes"
+//~ compares = "expected behaviour"
+//~ tolerance = "1e-9 mm; >= 3 remeshes"
+//~ why = "a scene that needs remeshing must get through it, and must have needed it"
+//~ [[check]]
+//~ what = "least scaled Jacobian at every step"
+//~ compares = "expected behaviour"
+//~ tolerance = ">= 0.2"
+//~ why = "remeshing must keep the elements usable; below 0.2 the elements near a corner are too distorted to trust"
+//~ [[check]]
+//~ what = "each remesh's volume change"
+//~ compares = "conservation"
+//~ tolerance = "1e-6"
+//~ why = "the mesher keeps the outline: measured below 4e-15"
+//~ [[check]]
+//~ what = "each remesh's load jump, where the scene states it"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "1e-2 (relative)"
+//~ why = "the new mesh's load at the same configuration is another discretization of a non-homogeneous field; 1 % bounds that and fails on a lost contact state or a wrong field transfer"
 History check_remeshed_run(const std::string& dir, double end_stroke, bool jumps_below_1_percent) {
   EXPECT_TRUE(run_finished(dir)) << dir;
   const History h = read_history(dir + "/history.csv");
@@ -66,11 +87,29 @@ History check_remeshed_run(const std::string& dir, double end_stroke, bool jumps
 
 }  // namespace
 
+//~ feature = "remeshing"
+//~ scene = "upsetting_sticking_remeshed (direct) to 70 %"
+//~ source = "the remesher keeps the outline (volume) and the state (load)"
+//~ uses = ["check_remeshed_run"]
 TEST(RemeshScenes, UpsettingWithStickingFrictionTo70Percent) {
   const std::string dir = run_case("upsetting_sticking_remeshed");
   check_remeshed_run(dir, 7.0, true);
 }
 
+//~ feature = "remeshing"
+//~ scene = "ring_compression_remeshed, variants m1, mu0.2, m1_q0.5, m1_every0.5mm, to 60 %"
+//~ source = "Male and Cockcroft 1964 (the ring's inner diameter)"
+//~ uses = ["check_remeshed_run"]
+//~ [[check]]
+//~ what = "m = 1 remeshed at another criterion: load at 60 % against the default criteria's"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "1e-2 (relative)"
+//~ why = "when a remesh happens must not change the result beyond the discretization's spread"
+//~ [[check]]
+//~ what = "inner-diameter change at every step against the default criteria's curve"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "0.5 percentage points"
+//~ why = "the spread of the remeshed discretization on this mesh is 0.4 to 0.5 point (runs under two BLAS differ by up to 0.33 point: gmsh meshes an outline differing at round-off differently)"
 TEST(RemeshScenes, RingTo60PercentWhicheverTheCriteria) {
   const std::string dir = run_case("ring_compression_remeshed", "--variant all");
   for (const std::string v : {"m1", "mu0.2", "m1_q0.5", "m1_every0.5mm"}) check_remeshed_run(dir + "/" + v, 6.0, true);
@@ -101,6 +140,20 @@ TEST(RemeshScenes, RingTo60PercentWhicheverTheCriteria) {
   }
 }
 
+//~ feature = "remeshing"
+//~ scene = "backward_extrusion_cup (direct) to 8 mm"
+//~ source = "volume constancy: the rim rises (7/10)^2 / (1 - (7/10)^2) = 0.96 mm per mm of punch travel once the flow is steady"
+//~ uses = ["check_remeshed_run"]
+//~ [[check]]
+//~ what = "rim rise per mm of travel from 4 to 8 mm; cup bottom thickness at 8 mm"
+//~ compares = "exact solution"
+//~ tolerance = "0.02 (mm per mm; mm)"
+//~ why = "the steady flow's volume balance; 0.02 is 2 % of the rise, read at the nearest recorded strokes"
+//~ [[check]]
+//~ what = "every remesh restored the overlap with the punch's corner"
+//~ compares = "expected behaviour"
+//~ tolerance = "> 0.0"
+//~ why = "the new outline cuts the corner; the volume inside the punch is put back"
 TEST(RemeshScenes, BackwardExtrusionOfACup) {
   const std::string dir = run_case("backward_extrusion_cup");
   const History h = check_remeshed_run(dir, 8.0, true);

@@ -21,6 +21,17 @@ using accept::run_case;
 namespace {
 
 // Every step's Kuhn-Tucker and friction residuals within the tolerances.
+//~ helper = "expect_conditions"
+//~ [[check]]
+//~ what = "kkt_primal (penetration / h) at every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-9"
+//~ why = "an exact enforcement meets its gap to solver precision"
+//~ [[check]]
+//~ what = "kkt_complementarity, kkt_friction (force within its bound, at it and against the slip where slipping), kkt_stick_slip (slip rate / die speed where sticking), every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-8"
+//~ why = "the semi-smooth Newton iteration stops on these residuals; 1e-8 is its target, which the Newton tolerance meets with margin"
 void expect_conditions(const std::string& dir) {
   const History h = read_history(dir + "/history.csv");
   ASSERT_GT(h.rows(), 2u);
@@ -45,6 +56,15 @@ void PrintTo(const SsnScene& s, std::ostream* os) { *os << s.name << " " << s.la
 
 class SsnConditions : public testing::TestWithParam<SsnScene> {};
 
+//~ feature = "ssn"
+//~ scene = "paper_test2_die, paper_test2_virtual_rigid, ring m0.1 and mu0.1, upsetting mu0.1, core_in_sleeve, Test I double action to 3 mm (node to segment), each under ssn"
+//~ source = "Hueber, Stadler and Wohlmuth 2008 (the conditions as complementarity functions); paper eq. 6 and 10"
+//~ uses = ["expect_conditions"]
+//~ [[check]]
+//~ what = "the run finishes"
+//~ compares = "expected behaviour"
+//~ tolerance = "finished"
+//~ why = "an exact enforcement that stops proves nothing about its conditions"
 TEST_P(SsnConditions, HoldAtEveryStep) {
   const SsnScene& s = GetParam();
   const std::string dir = run_case(s.name, "--formulation " + s.label + " " + s.extra);
@@ -66,6 +86,15 @@ INSTANTIATE_TEST_SUITE_P(
 
 // Frictionless, ssn and ipopt meet the same Kuhn-Tucker conditions: the
 // flat-die upsetting's load to 1e-7 at every recorded step.
+//~ feature = "ssn"
+//~ scene = "upsetting_dies_frictionless_axisym under ssn and ipopt"
+//~ source = "paper eq. 6: both meet the same Kuhn-Tucker conditions"
+//~ uses = ["expect_conditions"]
+//~ [[check]]
+//~ what = "die load at every recorded step"
+//~ compares = "another formulation"
+//~ tolerance = "1e-7 (relative)"
+//~ why = "two exact enforcements of the same conditions; 1e-7 is their tolerances (1e-8 and Ipopt's) with margin"
 TEST(Ssn, FrictionlessLoadIsIpopts) {
   const std::string s = run_case("upsetting_dies_frictionless_axisym", "--formulation ssn", 0, "_ssn");
   const std::string i = run_case("upsetting_dies_frictionless_axisym", "--formulation ipopt", 0, "_ipopt");
@@ -83,6 +112,19 @@ TEST(Ssn, FrictionlessLoadIsIpopts) {
 // The ring at m = 0.1 to 50 %: the arctan law at a = 1e-3 (direct) is
 // within 0.05 point of the exact law's inner-diameter change (measured
 // 0.017 point: +15.2401 against +15.2235 %), and at a = 1e-5 within 0.002.
+//~ feature = "ssn"
+//~ scene = "ring_compression m0.1 to 50 %: ssn (exact Tresca law) against direct with the arctan law at a = 1e-3 and 1e-5"
+//~ source = "paper eq. 11-12 (the arctan law tends to the exact one as a falls); Hueber, Stadler and Wohlmuth 2008"
+//~ [[check]]
+//~ what = "inner-diameter change at 50 %, arctan a = 1e-3 against exact"
+//~ compares = "another formulation"
+//~ tolerance = "0.05 percentage points"
+//~ why = "measured 0.017 point (+15.2401 against +15.2235 %); the smoothing's error is first order in a"
+//~ [[check]]
+//~ what = "the same at a = 1e-5, and below a fifth of a = 1e-3's"
+//~ compares = "another formulation"
+//~ tolerance = "0.002 percentage points; < 1/5"
+//~ why = "two decades of a must shrink the error well beyond a fifth if the arctan law approaches the exact one"
 TEST(Ssn, ArctanRingApproachesTheExactLaw) {
   const std::string e = run_case("ring_compression", "--formulation ssn --variant m0.1", 0, "_exact");
   const std::string a3 = run_case("ring_compression", "--formulation direct --variant m0.1", 0, "_a3");

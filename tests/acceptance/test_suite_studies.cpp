@@ -84,6 +84,19 @@ const std::string kSceneRuns = " --no-report --jobs 2 --set stepping.end_stroke=
 
 }  // namespace
 
+//~ feature = "studies"
+//~ scene = "a temporary cases folder: flat-die upsetting, two studies (beta, mesh) on 4 x 4 meshes"
+//~ source = "docs/sweeps.md (a study's table)"
+//~ [[check]]
+//~ what = "a study's run that stops is in its table, the exit code stays 0; the suite's --set does not reach a study"
+//~ compares = "expected behaviour"
+//~ tolerance = "exit 0; final stroke 1e-9 mm"
+//~ why = "a study measures where runs stop; the study's own settings decide its runs"
+//~ [[check]]
+//~ what = "the study's table in the suite against `rpfem sweep`'s for the same study"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "equal"
+//~ why = "the same runs give the same numbers"
 TEST(SuiteStudies, EachStudysTableAsSweepWritesItStopsRecorded) {
   const std::string root = accept::test_out_dir();
   const std::string cases = make_cases(root, "");
@@ -113,6 +126,14 @@ TEST(SuiteStudies, EachStudysTableAsSweepWritesItStopsRecorded) {
   EXPECT_NE(r.output.find("studies: 1 run stopped early"), std::string::npos) << r.output;
 }
 
+//~ feature = "studies"
+//~ scene = "the beta study with a reference run that cannot converge"
+//~ source = "docs/sweeps.md (the reference run)"
+//~ [[check]]
+//~ what = "exit code 3; reference_exit_code 3 in suite.json"
+//~ compares = "expected behaviour"
+//~ tolerance = "exit 3"
+//~ why = "a study without its reference cannot report errors: the suite says so"
 TEST(SuiteStudies, AStudysReferenceRunStoppingIsExitThree) {
   const std::string root = accept::test_out_dir();
   const std::string cases = make_cases(root, "\"solver.tol_force=1e-30\"");
@@ -124,6 +145,14 @@ TEST(SuiteStudies, AStudysReferenceRunStoppingIsExitThree) {
   EXPECT_NE(text(root + "/o/suite.json").find("\"reference_exit_code\" : 3"), std::string::npos);
 }
 
+//~ feature = "studies"
+//~ scene = "the same cases folder, --scene, --study, --quick, --no-studies, an unknown study"
+//~ source = "docs/sweeps.md (selecting studies)"
+//~ [[check]]
+//~ what = "only the studies selected run; --quick the reduced grid; an unknown study is bad input naming it"
+//~ compares = "expected behaviour"
+//~ tolerance = "exit 0 or 2"
+//~ why = "selection is exact: what runs is what was asked for, and a typo is an error"
 TEST(SuiteStudies, SceneAndStudySelection) {
   const std::string root = accept::test_out_dir();
   const std::string cases = make_cases(root, "");
@@ -156,6 +185,19 @@ TEST(SuiteStudies, SceneAndStudySelection) {
 // with Coulomb friction, 4 x 4 elements to 1 mm under direct: the load and
 // the top corner's radius converge with order 1 as a falls (0.97 and 0.97
 // from a = 0.1 to 1e-3), the reference run's own values are in sweep.json.
+//~ feature = "studies"
+//~ scene = "upsetting_friction, Coulomb mu = 0.1, 4 x 4 elements to 1 mm: direct at a = 0.1, 1e-2, 1e-3 against ssn"
+//~ source = "paper eq. 11-12 (the arctan law's error is first order in a); Hueber, Stadler and Wohlmuth 2008 (the exact reference)"
+//~ [[check]]
+//~ what = "load and monitor errors falling by more than 5 per decade of a"
+//~ compares = "another formulation"
+//~ tolerance = "> 5 x per decade"
+//~ why = "first order gives 10 per decade; 5 allows the coarse mesh's pre-asymptotic error"
+//~ [[check]]
+//~ what = "fitted orders in sweep.json (load and top corner radius)"
+//~ compares = "another formulation"
+//~ tolerance = "1.0 +- 0.1"
+//~ why = "measured 0.97 and 0.97 from a = 0.1 to 1e-3"
 TEST(SuiteStudies, ARegularizationStudysErrorsOrdersAndReference) {
   const std::string root = accept::test_out_dir();
   const std::string cases = root + "/cases";

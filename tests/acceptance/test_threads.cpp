@@ -13,6 +13,14 @@
 using namespace rpfem;
 using accept::run_case;
 
+//~ feature = "threads"
+//~ scene = "upsetting_friction, direct, mesh factor 2 (1600 elements) to 1 mm, one and two threads"
+//~ source = "model/element_loop.hpp: each element's terms in its own slot, the sums in element order"
+//~ [[check]]
+//~ what = "history.csv and the last step's velocity, strain and coordinates (h5dump, 17 digits)"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "equal bits"
+//~ why = "the sums are taken in the same order whatever the thread count"
 TEST(Threads, ElementLoopsGiveTheSameBitsOnOneAndTwoThreads) {
   const std::string common =
       "--formulation direct --set run.mesh_factor=2 --set stepping.end_stroke=1.0 --set solver.threads=";

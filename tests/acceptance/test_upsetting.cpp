@@ -30,6 +30,27 @@ using accept::run_case;
 
 using accept::aisi1035;
 
+//~ helper = "check_run"
+//~ [[check]]
+//~ what = "whole-body load at every recorded step, to 50 % reduction"
+//~ compares = "exact solution"
+//~ tolerance = "5e-3 (relative)"
+//~ why = "measured 1.3e-5 (axisymmetric) and 2.5e-5 (plane strain): the volumetric penalty's compressibility and the explicit geometry update over 100 steps; 0.5 % is two decades above and still catches a wrong flow stress, area or strain"
+//~ [[check]]
+//~ what = "volume change at every step"
+//~ compares = "conservation"
+//~ tolerance = "1e-3 (relative to the initial volume)"
+//~ why = "measured 1.2e-5 (axisymmetric) and 2.3e-5 (plane strain), the volumetric penalty's compressibility accumulated over the steps"
+//~ [[check]]
+//~ what = "effective strain non-uniformity (max - min) / mean at every recorded step"
+//~ compares = "exact solution"
+//~ tolerance = "1e-3 (relative)"
+//~ why = "homogeneous deformation is reproduced to round-off (measured 5e-14); 1e-3 catches any non-uniform flow, e.g. a platen that drags"
+//~ [[check]]
+//~ what = "mean effective strain against ln(H0/H) (axisymmetric) or (2/sqrt 3) ln(H0/H) (plane strain)"
+//~ compares = "exact solution"
+//~ tolerance = "5e-3 (relative)"
+//~ why = "measured 5.8e-6 and 7.8e-6; the same margin as the load"
 void check_run(const std::string& dir, bool axisymmetric, const std::string& load = "top_platen.Fy") {
   const double H0 = 20, D0 = 20;
   const History h = read_history(dir + "/history.csv");
@@ -76,16 +97,38 @@ void check_run(const std::string& dir, bool axisymmetric, const std::string& loa
 
 }  // namespace
 
+//~ feature = "upsetting"
+//~ scene = "upsetting_frictionless_axisym (platens as velocity conditions, no contact)"
+//~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2: eps = ln(H0/H), F = sigma_bar(eps) A0 H0 / H (verification/analytic.hpp)"
+//~ uses = ["check_run"]
 TEST(Upsetting, FrictionlessAxisymmetricMatchesExact) {
   check_run(run_case("upsetting_frictionless_axisym"), true);
 }
 
+//~ feature = "upsetting"
+//~ scene = "upsetting_frictionless_plane (rate term m = 0.01: the rate-independent plane-strain problem is not unique, docs/notes.md)"
+//~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2: eps = ln(H0/H), F = sigma_bar(eps) A0 H0 / H (verification/analytic.hpp); plane strain: eps = (2/sqrt 3) ln(H0/H), F = (2/sqrt 3) sigma_bar w0 H0 / H per mm of depth"
+//~ uses = ["check_run"]
 TEST(Upsetting, FrictionlessPlaneStrainMatchesExact) {
   check_run(run_case("upsetting_frictionless_plane"), false);
 }
 
 // Requirement (direct formulation): frictionless flat dies
 // reproduce the exact homogeneous result through the contact machinery.
+//~ feature = "upsetting"
+//~ scene = "upsetting_dies_frictionless_axisym (rigid flat dies, direct)"
+//~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2: eps = ln(H0/H), F = sigma_bar(eps) A0 H0 / H (verification/analytic.hpp); paper eq. 6 (no penetration)"
+//~ uses = ["check_run"]
+//~ [[check]]
+//~ what = "largest penetration of a billet node into the die, every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-6 of the height (20 mm)"
+//~ why = "direct holds the contact nodes on the die exactly; 1e-6 of the height is round-off of the geometry update with margin"
+//~ [[check]]
+//~ what = "contact nodes at every step: the whole top face (21), none released"
+//~ compares = "expected behaviour"
+//~ tolerance = "equal (21)"
+//~ why = "a frictionless die on a homogeneously deforming face presses every node: a release or a missing node is an error of the contact state"
 TEST(Upsetting, FrictionlessFlatDieThroughContactMatchesExact) {
   const std::string dir = run_case("upsetting_dies_frictionless_axisym");
   check_run(dir, true, "top_die.Fy");
@@ -97,6 +140,24 @@ TEST(Upsetting, FrictionlessFlatDieThroughContactMatchesExact) {
 // A die that starts 0.1 mm above the billet: the step is shortened so the
 // top nodes land on the die (touch mid-step), then the load follows the
 // exact homogeneous one.
+//~ feature = "upsetting"
+//~ scene = "upsetting_dies_frictionless_axisym with the die 0.1 mm above the billet, 0.3 mm steps"
+//~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2 (the exact load after the touch)"
+//~ [[check]]
+//~ what = "the first step cut to the touch: stroke 0.1 mm, then all 21 top nodes in contact"
+//~ compares = "expected behaviour"
+//~ tolerance = "1e-9 mm (stroke)"
+//~ why = "the landing is computed from the nodes' gap and velocity exactly; 1e-9 mm is round-off"
+//~ [[check]]
+//~ what = "penetration at every step"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-6 of the height (20 mm)"
+//~ why = "the nodes land on the die, not through it; round-off of the geometry update with margin"
+//~ [[check]]
+//~ what = "load at the last step (0.7 mm)"
+//~ compares = "exact solution"
+//~ tolerance = "5e-3 (relative)"
+//~ why = "as the homogeneous upsetting's load check: after the touch the flow is homogeneous"
 TEST(Upsetting, DieTouchesMidStep) {
   const std::string dir = run_case("upsetting_dies_frictionless_axisym",
                                    "--set dies.top_die.vertex.0.y=10.1 --set dies.top_die.vertex.1.y=10.1 "
@@ -116,6 +177,19 @@ TEST(Upsetting, DieTouchesMidStep) {
 
 // A die that presses, then pulls away: every contact node is released under
 // tension (logged in events.csv), and the free billet stops.
+//~ feature = "upsetting"
+//~ scene = "upsetting_dies_frictionless_axisym with the die reversing at 0.3 s"
+//~ source = "paper eq. 6 (a node whose contact force would be tensile is released)"
+//~ [[check]]
+//~ what = "all 21 contact nodes released (21 'release node' events), none in contact at the end"
+//~ compares = "expected behaviour"
+//~ tolerance = "equal (21 releases)"
+//~ why = "a die pulling away can carry no tension: every node must leave it, each logged once"
+//~ [[check]]
+//~ what = "die load at the end"
+//~ compares = "Kuhn-Tucker conditions"
+//~ tolerance = "1e-9 N"
+//~ why = "no contact, no force: only round-off may remain"
 TEST(Upsetting, DieReleasesNodesUnderTension) {
   std::ifstream in(std::string(RPFEM_SOURCE_DIR) + "/cases/upsetting_dies_frictionless_axisym.toml");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -37,6 +37,13 @@ grep -q "(report_files/upsetting_dies_frictionless_axisym_velocity.png)" "$tmp/o
 # carries the table.
 grep -q '"failed" : 0' "$tmp/o/verification.json" || { echo "FAIL: suite verification"; cat "$tmp/o/verification.json"; exit 1; }
 grep -q "Verification checks: [1-9][0-9]*, 0 failed" "$tmp/o/report.md" || { echo "FAIL: no verification table"; exit 1; }
+# Each check says what it verifies and against what (verification/checks.toml),
+# in verification.json and in the report's table.
+grep -q '"against" : "direct (exact Kuhn-Tucker' "$tmp/o/verification.json" \
+  && grep -q '"verifies" : "penalty: the die load of frictionless flat-die upsetting' "$tmp/o/verification.json" \
+  || { echo "FAIL: verification.json without verifies/against"; exit 1; }
+grep -q "| result | against |" "$tmp/o/report.md" && grep -q "| pass | direct (exact Kuhn-Tucker" "$tmp/o/report.md" \
+  || { echo "FAIL: the report's verification table without its against column"; exit 1; }
 # rpfem verify with its own checks passes, then fails (exit 4) once a
 # result is perturbed: the penalty run's load 1 % higher at one step.
 cat > "$tmp/checks.toml" <<'CHECKS'

@@ -1,6 +1,7 @@
 // verification/suite_checks: a history_max check with a round-off floor
 // column passes where each step is within the larger of the tolerance and
-// its floor, and fails where one step is not.
+// its floor, and fails where one step is not; the shipped checks each say
+// what they verify, against what, from which source and why their tolerance.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -44,4 +45,16 @@ TEST(SuiteChecks, HistoryMaxWithAFloorHoldsEachStepToTheLargerOfTheTwo) {
                                                "step,kkt_stationarity,kkt_round_off\n0,1e-6,3e-6\n1,5e-8,1e-9\n");
   const auto q = evaluate_suite_checks(above, {stationarity_check("kkt_round_off")});
   EXPECT_FALSE(q[0].pass);
+}
+
+TEST(SuiteChecks, ShippedChecksSayWhatTheyVerifyAgainstWhatAndWhy) {
+  const auto checks = read_suite_checks(std::string(RPFEM_SOURCE_DIR) + "/verification/checks.toml");
+  ASSERT_GE(checks.size(), 65u);
+  for (const SuiteCheck& c : checks) {
+    const std::string what = c.scene + " " + c.formulation + " " + metric_name(c.metric);
+    EXPECT_FALSE(c.verifies.empty()) << what;
+    EXPECT_FALSE(c.against.empty()) << what;
+    EXPECT_FALSE(c.source.empty()) << what;
+    if (c.metric != CheckMetric::Finished) EXPECT_FALSE(c.why.empty()) << what;
+  }
 }

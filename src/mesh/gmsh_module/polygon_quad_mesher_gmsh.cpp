@@ -16,8 +16,8 @@ namespace rpfem {
 namespace {
 
 // gmsh's global state for one meshing, finalized however it ends.
-struct GmshSession {
-  GmshSession() {
+struct GmshState {
+  GmshState() {
     gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
     // One thread: an error in gmsh's OpenMP regions would end the process
@@ -26,7 +26,7 @@ struct GmshSession {
     gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1);  // Blossom
     gmsh::model::add("outline");
   }
-  ~GmshSession() { gmsh::finalize(); }
+  ~GmshState() { gmsh::finalize(); }
 };
 
 double signed_area(const std::vector<Vec2>& x, const std::array<Index, 4>& q) {
@@ -42,7 +42,7 @@ void mesh_with_gmsh(const PolygonQuadMeshInput& in, PolygonQuadMesh& out) {
   double scale = 1;
   const auto h = [&](const Vec2& p) { return scale * in.size(p); };
 
-  GmshSession session;
+  GmshState gmsh_state;
   // gmsh point i + 1 at points[i], line i + 1 from it to the next.
   std::vector<int> lines(np);
   for (int i = 0; i < np; ++i) gmsh::model::geo::addPoint(points[i](0), points[i](1), 0, h(points[i]), i + 1);
