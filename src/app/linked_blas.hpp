@@ -1,9 +1,9 @@
 // Which BLAS this process runs on: the results of a sparse factorization
-// depend on its rounding (docs/notes.md: the ring's inner diameter at 60 %
-// moves by tenths of a point between Debian's reference BLAS and
-// OpenBLAS), and the library is chosen at load time (Debian's
-// alternatives, LD_LIBRARY_PATH), not at build time. Recorded with every
-// run's provenance.
+// depend on its rounding (docs/decisions.md, "Linear algebra and the
+// element loops": the ring's inner diameter at 60 % moves by tenths of a point
+// between Debian's reference BLAS and OpenBLAS), and the library is chosen at
+// load time (Debian's alternatives, LD_LIBRARY_PATH), not at build time.
+// Recorded with every run's provenance.
 #pragma once
 #include <string>
 

@@ -23,7 +23,7 @@ namespace {
 // next factorization faulting them in again). Freed memory is kept in the
 // heap up to 128 MB, and blocks below 32 MB come from it (glibc's own
 // ceiling for its adaptive threshold): 6,948 faults, the same results
-// (docs/notes.md).
+// (docs/decisions.md, "Linear algebra and the element loops").
 void keep_freed_memory() {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 128 << 20);

@@ -39,7 +39,8 @@ constexpr double kNegligibleLanding = 1e-6;
 // a short one, lands it. With the wide band the record solve pressed it
 // there and the load jumped one step early: Test I's double action landed
 // 0.0013 mm after its single action, and Test II's mean load under the
-// row enforcements was 0.4 % above `direct`'s (docs/notes.md).
+// row enforcements was 0.4 % above `direct`'s (docs/decisions.md, "Landing
+// control").
 constexpr double kDriftBand = 1e-3;
 // A drift off a die below this fraction of the element size is round-off:
 // not corrected.
@@ -112,9 +113,9 @@ void ContactModel::take_over_rows(const StepView& v) {
   // nodes) lie off the new master by as much. Enforced as they are, a
   // penetration is pushed out within the first step (a velocity of the
   // order of the stroke's) and an open node carries nothing until it
-  // lands: the load jumped by up to 37 % on Test I (docs/notes.md). A row
-  // found where the surfaces touched instead starts in contact with its
-  // present gap as its zero, as the interface stood at the remesh (the
+  // lands: the load jumped by up to 37 % on Test I (docs/decisions.md, "Landing
+  // control"). A row found where the surfaces touched instead starts in contact
+  // with its present gap as its zero, as the interface stood at the remesh (the
   // discretization's own error, not a misfit to correct), until it leaves
   // contact (end_step).
   const auto& ifaces = disc_->interfaces();
@@ -265,7 +266,7 @@ double ContactModel::place_on_surfaces(const StepView& v, std::vector<Vec2>& x) 
   // drift with no force: on the backward extrusion's punch fillet a node
   // pressed at 600 to 860 MPa under direct carried nothing under penalty,
   // auglag and ipopt at every full step, and the punch load fell 8 to 10 %
-  // until the node landed again (docs/notes.md).
+  // until the node landed again (docs/decisions.md, "Landing control").
   max_drift_ = 0;
   if (enf_->places_on_surfaces()) return enf_->place_on_surfaces(v, x);
   const auto& res = enf_->results();

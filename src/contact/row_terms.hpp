@@ -46,8 +46,9 @@ struct RowLaw {
   // contacts from floating in the Newton matrix; not the exact Hessian,
   // which slows Newton by about 1e-12 beta / (1e-12 beta + K) per
   // iteration in that row's direction: 1e-6 made Test I's Newton linear at
-  // 0.924, docs/notes.md). At N = 0 with r = lambda / beta exactly (a
-  // node resting at zero gap at the start) the full beta is used.
+  // 0.924, docs/decisions.md, "The penalty parameter"). At N = 0 with r =
+  // lambda / beta exactly (a node resting at zero gap at the start) the full
+  // beta is used.
   bool keep_stiffness = false;
   FrictionLaw::Kind kind = FrictionLaw::Kind::None;
   double m = 0, mu = 0;

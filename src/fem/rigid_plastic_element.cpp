@@ -122,7 +122,8 @@ double accumulate(const RigidPlasticInput& in, Tangent t, ElementTerms* out) {
   // plane strain this is the 1-point rule; in axisymmetry the centre value
   // of v_r / r is not the element's mean, and the 1-point rule let two
   // blocks with non-matching meshes at a contact interface flow 6.9 %
-  // non-uniformly under homogeneous compression (docs/notes.md).
+  // non-uniformly under homogeneous compression (docs/decisions.md, "The
+  // volumetric term on the element's mean dilatation").
   bv /= wc;
   const double ev = bv.dot(in.v);
   energy += 0.5 * in.alpha * wc * ev * ev;

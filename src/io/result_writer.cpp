@@ -80,7 +80,7 @@ H group(hid_t parent, const std::string& name) {
 // walks all of it (H5C_set_slist_enabled: 13.7 % of a 200-step run
 // recording every step); at 1600 recorded steps a step's HDF5 writes took
 // 9.9 ms, 5.9 ms with this cache, and grew with the step count no longer
-// (docs/notes.md, "Results written every step").
+// (docs/benchmarks.md).
 void use_fixed_cache(hid_t fapl) {
   H5AC_cache_config_t c;
   c.version = H5AC__CURR_CACHE_CONFIG_VERSION;

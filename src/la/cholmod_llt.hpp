@@ -6,9 +6,10 @@
 // tril(P A P^T) by two transposes, triu(P A P^T) and then its transpose
 // (CHOLMOD/Cholesky/cholmod_factorize.c), at every factorization: 6.7 % of
 // a Newton iteration at 1e5 unknowns, in cholmod_transpose_sym and the
-// page faults of its fresh copies (docs/notes.md). Given a lower triangle
-// in the natural ordering it factorizes the matrix as given ("the fastest
-// option for the natural ordering", same file).
+// page faults of its fresh copies (docs/decisions.md, "Linear algebra and the
+// element loops"). Given a lower triangle in the natural ordering it factorizes
+// the matrix as given ("the fastest option for the natural ordering", same
+// file).
 //
 // CholmodLLT therefore analyzes A as CHOLMOD would (its ordering,
 // postordered), then keeps that ordering itself and declares the factor's
@@ -36,7 +37,8 @@ namespace rpfem {
 // ordering by AMD only, postordered. CHOLMOD's default tries METIS too
 // where AMD's fill is large, and METIS installs its own SIGTERM and SIGINT
 // handlers while it runs (GKlib's gk_sigtrap), so a run could not be
-// stopped during an analysis (docs/notes.md for what it costs).
+// stopped during an analysis (docs/decisions.md, "Linear algebra and the
+// element loops" for what it costs).
 void set_kernel_options(cholmod_common& c);
 
 class CholmodLLT {

@@ -6,7 +6,8 @@
 // thread_limit(1)), each region still starts and ends a team of one, and
 // libgomp ends every team at a barrier that wakes its waiters with a futex
 // system call, whether or not anyone waits: 1.14 million calls in 2 mm of
-// the backward extrusion, about a tenth of its run time (docs/notes.md).
+// the backward extrusion, about a tenth of its run time (docs/decisions.md,
+// "Linear algebra and the element loops").
 //
 // The program therefore defines GOMP_parallel, libgomp's entry point for a
 // `#pragma omp parallel` (GCC's ABI, GOMP_4.0), and exports it, so that

@@ -20,7 +20,7 @@ enum class LinearSolverChoice { Auto, Cholmod, Lu };
 // (bench BM_Cholmod*, Debian's reference BLAS, CHOLMOD's OpenMP loops on
 // one thread as linear_solver.cpp runs them): simplicial 1.4 and 1.1 times
 // faster at 1e3 and 3e3 unknowns, even at 1e4, 1.5 times slower at 1e5
-// (docs/notes.md).
+// (docs/decisions.md, "Linear algebra and the element loops").
 // Auto: CHOLMOD's own choice per analysis (supernodal where the
 // factorization's flops per nonzero of L reach 40, Common->supernodal_switch).
 enum class CholeskyMode { Supernodal, Simplicial, Auto };
@@ -30,7 +30,8 @@ enum class CholeskyMode { Supernodal, Simplicial, Auto };
 // pivot search at every factorization). Factor + solve of a tangent
 // (bench BM_KluRefactor, BM_Umfpack; reference BLAS): KLU 1.9, 1.4 and
 // 1.04 times faster at 1e3, 3e3 and 1e4 unknowns, 1.4 times slower at
-// 2.9e4 (docs/notes.md). Auto: KLU below kKluMaxRows rows, else UMFPACK.
+// 2.9e4 (docs/decisions.md, "Linear algebra and the element loops"). Auto: KLU
+// below kKluMaxRows rows, else UMFPACK.
 enum class LuMode { Auto, Klu, Umfpack };
 inline constexpr long kKluMaxRows = 10000;
 

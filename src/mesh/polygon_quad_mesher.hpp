@@ -3,9 +3,8 @@
 // the first call, from rpfem's module librpfem_gmsh.so
 // (mesh/gmsh_module/), not linked into the programs: it brings about 120
 // libraries (OpenCASCADE, FLTK, X11, ...) whose symbol binding took 0.11 to
-// 0.22 s at every start of a program that may never remesh (docs/notes.md,
-// "Kept terms scattered as they are formed; gmsh loaded at the first
-// remesh").
+// 0.22 s at every start of a program that may never remesh
+// (docs/decisions.md, "Remeshing").
 #pragma once
 #include <array>
 #include <functional>

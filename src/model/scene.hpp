@@ -93,7 +93,7 @@ struct SteppingSpec {
   // stable step grows with the stroke, e.g. two bodies in series sharing a
   // stroke: their split relaxes at (d ln F / ds) / m per mm of stroke, an
   // explicit update is stable below ds (d ln F / ds) / m = 2, and a sphere's
-  // load grows as its contact area, F ~ s (docs/notes.md, "Test I").
+  // load grows as its contact area, F ~ s (docs/theory.md, "Limits").
   double relative_increment = 0;
   double end_stroke = 1.0;        // mm
   std::string reference;          // velocity group (or die) whose travel is the stroke

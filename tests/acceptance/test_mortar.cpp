@@ -166,7 +166,7 @@ TEST(Mortar, RowsAgainstARigidDieGiveTheNodeRowsLoad) {
 // discretization is mirror-symmetric, so the spheres' fields mirror each
 // other at every recorded step although the split of the stroke between
 // them is a stiff mode (one pass tips it: relative L2 differences of 2e-2
-// to 7.7 in the strain rate over the stroke, docs/notes.md).
+// to 7.7 in the strain rate over the stroke, docs/decisions.md, "Mortar").
 //~ feature = "mortar"
 //~ scene = "paper_test1_double_action, variant mortar_both (two half passes), to 1 mm"
 //~ source = "paper Test I (Fig. 5-7): symmetric fields about the contact plane; Puso and Laursen 2004"

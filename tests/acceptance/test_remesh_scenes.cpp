@@ -5,7 +5,7 @@
 // (the new mesh's load at the remesh's configuration against the old
 // one's) below 1 %; the ring's load and inner diameter do not depend on
 // when it is remeshed. The other enforcements on the same scenes:
-// docs/notes.md (a study, too long for a test).
+// docs/decisions.md, "Remeshing" (a study, too long for a test).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -106,7 +106,7 @@ TEST(Upsetting, FrictionlessAxisymmetricMatchesExact) {
 }
 
 //~ feature = "upsetting"
-//~ scene = "upsetting_frictionless_plane (rate term m = 0.01: the rate-independent plane-strain problem is not unique, docs/notes.md)"
+//~ scene = "upsetting_frictionless_plane (rate term m = 0.01: the rate-independent plane-strain problem is not unique, docs/decisions.md)"
 //~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2: eps = ln(H0/H), F = sigma_bar(eps) A0 H0 / H (verification/analytic.hpp); plane strain: eps = (2/sqrt 3) ln(H0/H), F = (2/sqrt 3) sigma_bar w0 H0 / H per mm of depth"
 //~ uses = ["check_run"]
 TEST(Upsetting, FrictionlessPlaneStrainMatchesExact) {
