@@ -14,12 +14,22 @@ ipopt against direct 1.2 % at 2.205 mm, 2e-6 mm from the landings) though
 the two curves agree to 1e-6 on either side. So a stroke is compared only
 away from the landings: a run's landing step is a step whose number of
 rows in contact (history.csv's contact_nodes) differs from the step
-before's, its landing interval the strokes of the two steps; the stroke of
-run r's step j is compared when no landing interval of r or of the
-reference reaches into [s_(j-1), s_(j+1)], r's strokes before and after
-it. A run that lands the same ring more than a step later than the
-reference keeps the strokes between: a landing that late is a difference
-of the solutions."""
+before's, or whose touches and releases (events.csv) change the set of
+rows in contact (one node landing as another leaves, the count unchanged);
+its landing interval the strokes of the two steps; the stroke s
+of run r's step j is compared when no landing interval of r or of the
+reference reaches into the open interval from the lesser of s_(j-1) and
+the reference's stroke before s to the greater of s_(j+1) and the
+reference's stroke at or after s: a step of either run on each side (a run
+with short landing steps is held to the other's step). A run that lands
+the same ring more than a step of either run later than the reference
+keeps the strokes between: a landing that late is a difference of the
+solutions."""
+import bisect
+import csv
+import os
+import re
+
 from results import interp, label
 
 DIFFERENCE = 0.005  # relative difference between two formulations' loads, away from the landings
@@ -27,10 +37,10 @@ DROP = 0.05  # relative drop of one run's load in one step
 
 RULE = ("Flags: a formulation's press load more than %.1f %% from the reference formulation's (the reference "
         "interpolated linearly) at a recorded stroke away from the landings, and a load that drops by more than "
-        "%.0f %% in one step. Away from the landings: no step of either run at which its number of rows in "
-        "contact changes (a node lands or leaves; history.csv's contact_nodes) lies within a step of the "
-        "stroke: a ring of nodes landed a few 1e-4 mm apart by two formulations makes a jump of the load that "
-        "interpolation turns into a difference of the jump's height." % (100 * DIFFERENCE, 100 * DROP))
+        "%.0f %% in one step. Away from the landings: no step at which either run's rows in contact change (a node "
+        "lands or leaves: history.csv's contact_nodes, events.csv's touches and releases) lies within a step of "
+        "either run of the stroke. Two formulations land a ring of nodes a few 1e-4 mm apart, and interpolation "
+        "turns the jump of the load there into a difference of the jump's height." % (100 * DIFFERENCE, 100 * DROP))
 
 
 def loads(r):
@@ -38,19 +48,57 @@ def loads(r):
     return h["stroke"], [abs(v) / 1000 for v in h[r["load_col"]]]
 
 
+# A contact event of events.csv: "touch node 420 on die top_die", "release
+# node 17 from billet-punch" (and "release node 17 on ...").
+EVENT = re.compile(r"^(touch|release) node (\d+) (?:on|from) (?:die )?(\S+)")
+
+
+def changed_steps(folder):
+    """The steps of a run whose set of rows in contact (node, interface)
+    differs from the step before's, replaying events.csv's touches and
+    releases (a step may land a node and release another, the count
+    unchanged); empty without the file."""
+    path = os.path.join(folder, "events.csv")
+    if not os.path.exists(path):
+        return set()
+    state, by_step = {}, {}
+    with open(path) as f:
+        for row in csv.reader(f):
+            if len(row) < 3 or not row[0].isdigit():
+                continue
+            m = EVENT.match(row[2])
+            if m:
+                by_step.setdefault(int(row[0]), []).append(((int(m.group(2)), m.group(3)), m.group(1) == "touch"))
+    changed, before = set(), frozenset()
+    for step in sorted(by_step):
+        for key, touch in by_step[step]:
+            state[key] = touch
+        now = frozenset(k for k, on in state.items() if on)
+        if now != before:
+            changed.add(step)
+        before = now
+    return changed
+
+
 def landing_intervals(r):
-    """[(stroke before, stroke)] of every step of r whose number of rows in
-    contact differs from the step before's: a node landed or left within
-    it. [] when the history has no contact_nodes column."""
-    s, n = r["history"].get("stroke", []), r["history"].get("contact_nodes")
-    if not n:
-        return []
-    return [(s[k - 1], s[k]) for k in range(1, min(len(s), len(n))) if n[k] != n[k - 1]]
+    """[(stroke before, stroke)] of every step of r at which a node landed
+    or left: its number of rows in contact (history.csv's contact_nodes)
+    differs from the step before's, or events.csv's touches and releases
+    change the set of rows in contact (changed_steps)."""
+    h = r["history"]
+    s, n = h.get("stroke", []), h.get("contact_nodes")
+    steps = h.get("step") or list(range(len(s)))
+    results = r.get("results")
+    events = changed_steps(results.folder) if results is not None else set()
+    return [(s[k - 1], s[k]) for k in range(1, len(s))
+            if (n and k < len(n) and n[k] != n[k - 1]) or int(steps[k]) in events]
 
 
 def near_landing(lo, hi, intervals):
-    """Whether a landing interval reaches into [lo, hi]."""
-    return any(a <= hi and b >= lo for a, b in intervals)
+    """Whether a landing interval reaches into the open interval (lo, hi)
+    (one that ends at lo, a landing step ending where r's step before
+    starts, is behind it)."""
+    return any(a < hi and b > lo for a, b in intervals)
 
 
 def compared(r, ref):
@@ -70,8 +118,9 @@ def compared(r, ref):
         g = interp(s, xs, ys)
         if not g > 0:
             continue
-        lo = ss[j - 1] if j > 0 else s
-        hi = ss[j + 1] if j + 1 < len(ss) else s
+        i = bisect.bisect_left(xs, s)  # ref's step [xs[i-1], xs[i]] holds s
+        lo = min(ss[j - 1] if j > 0 else s, xs[i - 1] if 0 < i < len(xs) else s)
+        hi = max(ss[j + 1] if j + 1 < len(ss) else s, xs[i] if i < len(xs) else s)
         out.append((s, f, g, f / g - 1, not near_landing(lo, hi, lands)))
     return out
 

@@ -9,6 +9,8 @@ landing's stroke (landing control), the number of rows in contact one more
 from the landing step on."""
 import os
 import sys
+import tempfile
+import types
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "reports"))
@@ -95,6 +97,30 @@ class LoadFlags(unittest.TestCase):
         r = run("direct", shift=3e-4)
         self.assertEqual([round(b, 6) for _, b in load_flags.landing_intervals(r)], [1.0003, 2.0003, 3.0003])
         self.assertEqual(load_flags.landing_intervals(run("none", skip_contact=True)), [])
+
+    def test_a_landing_the_count_misses_is_read_from_the_events(self):
+        # The run's ring lands 0.015 mm late (more than the reference's
+        # step: its own landing excludes the stroke before it) as another
+        # node leaves: the number of rows in contact stays, events.csv
+        # names both.
+        ref = run("direct")
+        r = run("auglag", shift=0.015)
+        r["history"]["contact_nodes"] = [5] * len(r["history"]["stroke"])
+        self.assertTrue(load_flags.differences(r, ref))  # the count alone: the staircase flagged
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, "events.csv"), "w") as f:
+                f.write("step,time,event\n")
+                for k, s in enumerate(r["history"]["stroke"]):
+                    if any(abs(s - x - 0.015) < 1e-9 for x in LANDINGS):
+                        f.write("%d,%g,touch node %d on billet-punch\n" % (k, s, 100 + k))
+                        f.write("%d,%g,release node %d from billet-punch\n" % (k, s, 7))
+                        f.write("%d,%g,touch node %d on billet-punch\n" % (k, s, 7))  # chatter: back at once
+                        f.write("%d,%g,release node %d on billet-punch\n" % (k, s, 90 + k))
+                f.write("%d,%g,solved by continuation of the limiting strain rate\n" % (50, 0.5))
+            r["results"] = types.SimpleNamespace(folder=d)
+            self.assertEqual(len(load_flags.changed_steps(d)), 3)
+            self.assertEqual([round(b, 6) for _, b in load_flags.landing_intervals(r)], [1.015, 2.015, 3.015])
+            self.assertEqual(load_flags.differences(r, ref), [])
 
     def test_a_variant_is_not_flagged_a_drop_is(self):
         ref = run("direct")
