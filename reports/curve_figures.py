@@ -177,8 +177,14 @@ def calibration_png(out, runs, title):
     return png_bytes(fig)
 
 
+def run_colour(i, runs):
+    """The colour of runs[i] on both panels of the load figure: matplotlib's
+    ten-colour cycle, tab20 for more runs (the cycle would repeat)."""
+    return "C%d" % i if len(runs) <= 10 else plt.get_cmap("tab20")(i % 20)
+
+
 def load_curves(ax, runs, title):
-    """Press load against stroke, every run (colour C<i> for runs[i]), with
+    """Press load against stroke, every run (in run_colour), with
     the scene's closed-form reference (reference_curves.py) where there is
     one."""
     # Several references (the slab load per friction factor): one dash
@@ -191,12 +197,13 @@ def load_curves(ax, runs, title):
         if r["load_col"]:
             stroke = r["history"]["stroke"]
             load = [abs(v) / 1000 for v in r["history"][r["load_col"]]]
-            ax.plot(stroke, load, label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")", color="C%d" % i)
+            ax.plot(stroke, load, label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")",
+                    color=run_colour(i, runs))
             # Each remesh at its stroke, on the curve (summary.json's remeshes).
             at = [m["stroke_mm"] for m in r["summary"].get("remeshes", [])]
             if at:
                 ax.plot(at, np.interp(at, stroke, load), linestyle="none", marker="x",
-                        color="C%d" % i, markersize=6, label=None if marked else "remesh")
+                        color=run_colour(i, runs), markersize=6, label=None if marked else "remesh")
                 marked = True
     plane = any(r["summary"].get("parameters", {}).get("run", {}).get("geometry", "").startswith("plane")
                 for r in runs)
@@ -227,9 +234,9 @@ def difference_curves(ax, runs, ref):
     for i, r, c in rows:
         s = [x[0] for x in c]
         d = [max(abs(x[3]), DIFFERENCE_FLOOR) for x in c]
-        ax.plot(s, d, color="C%d" % i, linewidth=0.8, alpha=0.6, label=label(r))
+        ax.plot(s, d, color=run_colour(i, runs), linewidth=0.8, alpha=0.6, label=label(r))
         ax.plot([x for x, ok in zip(s, (x[4] for x in c)) if ok], [y for y, x in zip(d, c) if x[4]], linestyle="none",
-                marker=".", markersize=3, color="C%d" % i)
+                marker=".", markersize=3, color=run_colour(i, runs))
     ax.set_yscale("log")
     ax.axhline(DIFFERENCE, color="k", linestyle="--", linewidth=0.8,
                label="flag threshold %.1f %%" % (100 * DIFFERENCE))
@@ -237,7 +244,7 @@ def difference_curves(ax, runs, ref):
     # a row per run, the reference's lowest.
     lo, hi = ax.get_ylim()
     ax.set_ylim(lo / (hi / lo) ** (1 / 3), hi)
-    ticks = [(ref, "k")] + [(r, "C%d" % i) for i, r, _ in rows]
+    ticks = [(ref, "k")] + [(r, run_colour(i, runs)) for i, r, _ in rows]
     pitch = min(0.04, 0.22 / len(ticks))
     for k, (r, colour) in enumerate(ticks):
         at = [b for _, b in landing_intervals(r)]
