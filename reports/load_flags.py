@@ -27,6 +27,7 @@ keeps the strokes between: a landing that late is a difference of the
 solutions."""
 import bisect
 import csv
+import functools
 import os
 import re
 
@@ -53,14 +54,16 @@ def loads(r):
 EVENT = re.compile(r"^(touch|release) node (\d+) (?:on|from) (?:die )?(\S+)")
 
 
+@functools.lru_cache(maxsize=None)
 def changed_steps(folder):
     """The steps of a run whose set of rows in contact (node, interface)
     differs from the step before's, replaying events.csv's touches and
     releases (a step may land a node and release another, the count
-    unchanged); empty without the file."""
+    unchanged); empty without the file. Read once per folder (a report
+    compares each scene's reference with every run)."""
     path = os.path.join(folder, "events.csv")
     if not os.path.exists(path):
-        return set()
+        return frozenset()
     state, by_step = {}, {}
     with open(path) as f:
         for row in csv.reader(f):
@@ -77,7 +80,7 @@ def changed_steps(folder):
         if now != before:
             changed.add(step)
         before = now
-    return changed
+    return frozenset(changed)
 
 
 def landing_intervals(r):
