@@ -1,7 +1,8 @@
 """The curve figures of the suite report (reports/make_report.py), from each
 run's history.csv: the press load against stroke for every formulation and
-variant on one plot (kN; paper Fig. 11); per step against stroke the
-penetration, iterations, Newton's force residual and the force imbalance
+variant on one plot (kN; paper Fig. 11) beside each formulation's relative
+difference from the reference on a log scale with the landings marked; per
+step against stroke the penetration, iterations, Newton's force residual and the force imbalance
 (die loads against each other, and penalty's contact pairs between bodies);
 and for rings the calibration curves (inner-diameter change against height
 reduction, a colour per friction value, with Avitzur's upper bound per
@@ -10,7 +11,8 @@ import numpy as np
 
 from plotting import missing_panel, plt, png_bytes
 from reference_curves import friction_of, load_references, ring_frictionless, ring_geometry, ring_upper_bound
-from results import initial_height, label
+from load_flags import DIFFERENCE, compared, landing_intervals
+from results import initial_height, label, reference_run
 
 
 def floored(values):
@@ -175,26 +177,33 @@ def calibration_png(out, runs, title):
     return png_bytes(fig)
 
 
-def load_png(runs, title):
-    """Press load against stroke, every run, with the scene's closed-form
-    reference (reference_curves.py) where there is one."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+def run_colour(i, runs):
+    """The colour of runs[i] on both panels of the load figure: matplotlib's
+    ten-colour cycle, tab20 for more runs (the cycle would repeat)."""
+    return "C%d" % i if len(runs) <= 10 else plt.get_cmap("tab20")(i % 20)
+
+
+def load_curves(ax, runs, title):
+    """Press load against stroke, every run (in run_colour), with
+    the scene's closed-form reference (reference_curves.py) where there is
+    one."""
     # Several references (the slab load per friction factor): one dash
     # pattern each, all black.
     for (strokes, loads, text), dash in zip(load_references(title, runs), ["--", "-.", ":", (0, (5, 1, 1, 1, 1, 1))]):
         ax.plot(strokes, [np.nan if v is None else v for v in loads], color="k", linestyle=dash, linewidth=1.5,
                 label=text, zorder=5)
     marked = False
-    for r in runs:
+    for i, r in enumerate(runs):
         if r["load_col"]:
             stroke = r["history"]["stroke"]
             load = [abs(v) / 1000 for v in r["history"][r["load_col"]]]
-            line, = ax.plot(stroke, load, label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")")
+            ax.plot(stroke, load, label=label(r) + " (" + r["load_col"].rsplit(".", 1)[0] + ")",
+                    color=run_colour(i, runs))
             # Each remesh at its stroke, on the curve (summary.json's remeshes).
             at = [m["stroke_mm"] for m in r["summary"].get("remeshes", [])]
             if at:
                 ax.plot(at, np.interp(at, stroke, load), linestyle="none", marker="x",
-                        color=line.get_color(), markersize=6, label=None if marked else "remesh")
+                        color=run_colour(i, runs), markersize=6, label=None if marked else "remesh")
                 marked = True
     plane = any(r["summary"].get("parameters", {}).get("run", {}).get("geometry", "").startswith("plane")
                 for r in runs)
@@ -204,6 +213,56 @@ def load_png(runs, title):
     ax.grid(True, alpha=0.3)
     if ax.lines:
         ax.legend(fontsize=8)
+
+
+# |relative load difference| shown at this floor where it is zero (log scale).
+DIFFERENCE_FLOOR = 1e-12
+
+
+def difference_curves(ax, runs, ref):
+    """|relative difference| of each run's load from the reference run's
+    against the stroke, log scale, in the run's colour (load_flags.compared):
+    a line through every compared stroke, dots at the strokes away from the
+    landings (the ones the flags use); the landing steps of each run as
+    ticks along the bottom (the reference's in black, lowest), the flag
+    threshold dashed."""
+    if ref is None:
+        missing_panel(ax, "no reference run")
+        return
+    rows = [(i, r, compared(r, ref)) for i, r in enumerate(runs) if r is not ref and r["load_col"]]
+    rows = [(i, r, c) for i, r, c in rows if c]
+    for i, r, c in rows:
+        s = [x[0] for x in c]
+        d = [max(abs(x[3]), DIFFERENCE_FLOOR) for x in c]
+        ax.plot(s, d, color=run_colour(i, runs), linewidth=0.8, alpha=0.6, label=label(r))
+        ax.plot([x for x, ok in zip(s, (x[4] for x in c)) if ok], [y for y, x in zip(d, c) if x[4]], linestyle="none",
+                marker=".", markersize=3, color=run_colour(i, runs))
+    ax.set_yscale("log")
+    ax.axhline(DIFFERENCE, color="k", linestyle="--", linewidth=0.8,
+               label="flag threshold %.1f %%" % (100 * DIFFERENCE))
+    # Room below the curves, a quarter of the height, for the landing ticks:
+    # a row per run, the reference's lowest.
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo / (hi / lo) ** (1 / 3), hi)
+    ticks = [(ref, "k")] + [(r, run_colour(i, runs)) for i, r, _ in rows]
+    pitch = min(0.04, 0.22 / len(ticks))
+    for k, (r, colour) in enumerate(ticks):
+        at = [b for _, b in landing_intervals(r)]
+        ax.plot(at, [0.02 + pitch * k] * len(at), transform=ax.get_xaxis_transform(), linestyle="none", marker="|",
+                markersize=5, color=colour, label="landings (ticks: %s lowest)" % label(ref) if k == 0 else None)
+    ax.set_xlabel("stroke (mm)")
+    ax.set_ylabel("|load / reference load - 1|")
+    ax.set_title("difference from %s (dots: away from landings)" % label(ref), fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def load_png(runs, title):
+    """Press load against stroke beside each run's relative difference from
+    the scene's reference run (log scale, landings marked)."""
+    fig, (ax, dax) = plt.subplots(1, 2, figsize=(12.8, 4.6), dpi=110)
+    load_curves(ax, runs, title)
+    difference_curves(dax, runs, reference_run([r for r in runs if not r["variant"]]))
     fig.tight_layout()
     return png_bytes(fig)
 
@@ -211,14 +270,19 @@ def load_png(runs, title):
 # The report's entries (see make_report.FIGURES): alt text, file tag, drawing, caption.
 LOAD_FIGURE = (
     "load against stroke", "load", lambda out, rs, sc: load_png(rs, sc),
-    "Press load (kN; plane strain: kN/mm of thickness) against stroke (mm), every formulation and variant (paper "
-    "Fig. 11); an x marks each remesh of a run that remeshes. Dashed black, where the scene has one: the closed "
-    "form, for frictionless upsetting the exact homogeneous load F = sigma(ln H0/H) A0 H0/H (plane strain: "
+    "Left: press load (kN; plane strain: kN/mm of thickness) against stroke (mm), every formulation and variant "
+    "(paper Fig. 11); an x marks each remesh of a run that remeshes. Dashed black, where the scene has one: the "
+    "closed form, for frictionless upsetting the exact homogeneous load F = sigma(ln H0/H) A0 H0/H (plane strain: "
     "2/sqrt3 sigma w0 H0/H; verification/analytic.cpp), for the plane-strain indentation Prandtl's flat-punch "
     "load 2k(1 + pi/2) b on a half-space at the initial flow stress (the block is finite and the punch filleted: "
     "a guide, not the exact answer), for a cylinder upset with a friction factor m the slab method's load per m, "
     "F = sigma (1 + 2mR/(3 sqrt3 H)) pi R^2 at the homogeneous height, radius and strain (Altan et al. 1983; "
-    "verification/slab_comparison.cpp; no barrelling and no sticking zone: an estimate, above the exact load).")
+    "verification/slab_comparison.cpp; no barrelling and no sticking zone: an estimate, above the exact load). "
+    "Right: each run's |relative difference| from the reference formulation's load (direct where it ran, else "
+    "ipopt; interpolated linearly) at the run's strokes, log scale (zero shown at 1e-12), in the run's colour: a "
+    "line through every stroke, dots at the strokes away from the landings (those the flags compare); ticks "
+    "along the bottom mark each run's landing steps (its number of rows in contact changes; the reference's "
+    "lowest, black); dashed, the flag threshold.")
 STEPS_FIGURE = (
     "penetration, iterations and force imbalance per step", "steps", lambda out, rs, sc: steps_png(rs, sc),
     "Per step against stroke: largest penetration over the element size, iterations, Newton's relative force "

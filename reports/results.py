@@ -1,6 +1,6 @@
 """The suite runs' results for the report (reports/make_report.py): each
-run's history.csv and summary.json, its press load and how far it is from
-the reference formulation's, and the recorded steps and initial mesh in its
+run's history.csv and summary.json, its press load, the scene's reference
+run, and the recorded steps and initial mesh in its
 result.h5, all read through python/rpfem_results.py."""
 import os
 import sys
@@ -63,28 +63,11 @@ def interp(x, xs, ys):
     return ys[-1]
 
 
-def load_differences(r, ref):
-    """Relative differences of r's press load from ref's at r's recorded
-    strokes within ref's range (ref interpolated linearly): the largest, the
-    median, and the largest past the first quarter of the stroke (where the
-    staircase of nodes landing one ring at a time, at different strokes in
-    different formulations, no longer dominates)."""
-    nan = float("nan")
-    if not (r["load_col"] and ref["load_col"]):
-        return nan, nan, nan
-    xs, ys = ref["history"]["stroke"], [abs(v) for v in ref["history"][ref["load_col"]]]
-    diffs = []
-    for s, f in zip(r["history"]["stroke"], r["history"][r["load_col"]]):
-        if s > xs[-1] + 1e-12:
-            break
-        g = interp(s, xs, ys)
-        if g > 0:
-            diffs.append((s, abs(abs(f) / g - 1)))
-    if not diffs:
-        return nan, nan, nan
-    d = sorted(x for _, x in diffs)
-    late = [x for s, x in diffs if s >= 0.25 * xs[-1]]
-    return d[-1], d[len(d) // 2], max(late) if late else nan
+def reference_run(base):
+    """The scene's reference run among its base runs: the first formulation
+    of REFERENCE_ORDER that finished with a load."""
+    return next((r for name in REFERENCE_ORDER for r in base
+                 if r["formulation"] == name and r["exit_code"] == 0 and r["load_col"]), None)
 
 
 def recorded_steps(out, r):
