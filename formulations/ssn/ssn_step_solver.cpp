@@ -445,13 +445,25 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
       for (const auto& [d, w] : red_[j].at) Fu[d] += (x.lt[j] - lt_plus[j]) * w;
     }
     const double slope = Fu.dot(dx.head(n));
+    // The full-step trial is usually the next iterate, whose consistent
+    // tangent then comes from the trial's own element pass (as the
+    // kernel's Newton does, solver/newton.hpp), unless this is the last
+    // iteration or the step's correction already predicts convergence
+    // (two full consistent steps contracting below the tolerance).
+    const double dun = dx.head(n).norm();
+    const bool predicted = !secant && last_full > 0 && dun < 0.5 * last_full &&
+                           dun / last_full * dun <= ns.tol_velocity * x.u.norm();
+    const bool keep_full_step = iter < ns.max_iterations && !predicted;
     Iterate trial;
     double s = 1;
     for (int cut = 0;; ++cut) {
       trial.u = x.u + s * dx.head(n);
       trial.ln = x.ln, trial.lt = x.lt;
       for (std::size_t j = 0; j < m; ++j) trial.ln[j] += s * dx[n + 2 * j], trial.lt[j] += s * dx[n + 2 * j + 1];
+      const bool keep = keep_full_step && cut == 0;
+      if (keep) problem.keep_tangent_terms(true);
       forces(problem, trial);
+      if (keep) problem.keep_tangent_terms(false);
       rows(v, trial, &x);
       const double L = lagrangian(trial, ln_plus, lt_plus);
       bool ok = std::isfinite(L) && std::isfinite(trial.norm);
