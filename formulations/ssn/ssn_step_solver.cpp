@@ -203,6 +203,54 @@ bool SsnStepSolver::condensable(const Iterate& it) const {
   return true;
 }
 
+bool SsnStepSolver::rotate_in_place(SpMat& A, const std::vector<int>& row_of) const {
+  // A = Q^T A Q, Q the identity but at the rotated nodes, whose dofs ix, iy
+  // it takes to their frame's (n, t): column ix of A Q is n_x A(:, ix) +
+  // n_y A(:, iy), column iy t_x A(:, ix) + t_y A(:, iy), and the rows
+  // likewise. In place where each such node's two columns, and so (the
+  // tangent's pattern being symmetric) its two rows in every column, share
+  // one pattern; otherwise false and A is not to be used.
+  if (!A.isCompressed()) return false;
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  double* val = A.valuePtr();
+  std::vector<std::size_t> nodes;  // rows of the solve rotated
+  for (std::size_t j = 0; j < red_.size(); ++j) {
+    const Reduced& rr = red_[j];
+    if (rr.an.size() != 2 || row_of[rr.an[0].first] != static_cast<int>(j)) continue;
+    const Index ix = rr.an[0].first, iy = rr.an[1].first;
+    if (outer[ix + 1] - outer[ix] != outer[iy + 1] - outer[iy] ||
+        !std::equal(inner + outer[ix], inner + outer[ix + 1], inner + outer[iy]))
+      return false;
+    nodes.push_back(j);
+  }
+  for (const std::size_t j : nodes) {
+    const Reduced& rr = red_[j];
+    const Index ix = rr.an[0].first, iy = rr.an[1].first;
+    const double nx = rr.an[0].second, ny = rr.an[1].second, tx = rr.at[0].second, ty = rr.at[1].second;
+    double *a = val + outer[ix], *b = val + outer[iy];
+    for (int k = 0; k < outer[ix + 1] - outer[ix]; ++k) {
+      const double x = a[k], y = b[k];
+      a[k] = nx * x + ny * y, b[k] = tx * x + ty * y;
+    }
+  }
+  for (Eigen::Index c = 0; c < A.outerSize(); ++c) {
+    const int *first = inner + outer[c], *last = inner + outer[c + 1];
+    for (const int* p = first; p != last; ++p) {
+      const int j = row_of[*p];
+      if (j < 0 || *p != red_[j].an[0].first) continue;
+      const Reduced& rr = red_[j];
+      const int* q = std::lower_bound(first, last, static_cast<int>(rr.an[1].first));
+      if (q == last || *q != rr.an[1].first) return false;
+      double &x = val[p - inner], &y = val[q - inner];
+      const double x0 = x, y0 = y;
+      x = rr.an[0].second * x0 + rr.an[1].second * y0;
+      y = rr.at[0].second * x0 + rr.at[1].second * y0;
+    }
+  }
+  return true;
+}
+
 bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
   // The rows' multipliers condensed (Popp et al. 2010; Wohlmuth 2011): at
   // a node pressing on a die, the step's normal velocity is prescribed
@@ -229,19 +277,22 @@ bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
     out[1] = {rr.an[1].first, rr.at[c].second};  // t's component
     return 2;
   };
-  std::vector<Eigen::Triplet<double, int>> trip;
-  trip.reserve(2 * K.nonZeros());
-  std::pair<Index, double> qi[2], qj[2];
-  for (Eigen::Index c = 0; c < K.outerSize(); ++c) {
-    const int nj = q_entries(c, qj);
-    for (SpMat::InnerIterator e(K, c); e; ++e) {
-      const int ni = q_entries(e.row(), qi);
-      for (int a = 0; a < ni; ++a)
-        for (int b = 0; b < nj; ++b) trip.emplace_back(qi[a].first, qj[b].first, qi[a].second * e.value() * qj[b].second);
+  SpMat A = K;
+  if (!rotate_in_place(A, row_of)) {
+    std::vector<Eigen::Triplet<double, int>> trip;
+    trip.reserve(2 * K.nonZeros());
+    std::pair<Index, double> qi[2], qj[2];
+    for (Eigen::Index c = 0; c < K.outerSize(); ++c) {
+      const int nj = q_entries(c, qj);
+      for (SpMat::InnerIterator e(K, c); e; ++e) {
+        const int ni = q_entries(e.row(), qi);
+        for (int a = 0; a < ni; ++a)
+          for (int b = 0; b < nj; ++b) trip.emplace_back(qi[a].first, qj[b].first, qi[a].second * e.value() * qj[b].second);
+      }
     }
+    A = SpMat(n, n);
+    A.setFromTriplets(trip.begin(), trip.end());
   }
-  SpMat A(n, n);
-  A.setFromTriplets(trip.begin(), trip.end());
   // The right-hand side -R plus the slipping rows' known forces, in the
   // local coordinates.
   Vec b = -it.R;
@@ -445,13 +496,25 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
       for (const auto& [d, w] : red_[j].at) Fu[d] += (x.lt[j] - lt_plus[j]) * w;
     }
     const double slope = Fu.dot(dx.head(n));
+    // The full-step trial is usually the next iterate, whose consistent
+    // tangent then comes from the trial's own element pass (as the
+    // kernel's Newton does, solver/newton.hpp), unless this is the last
+    // iteration or the step's correction already predicts convergence
+    // (two full consistent steps contracting below the tolerance).
+    const double dun = dx.head(n).norm();
+    const bool predicted = !secant && last_full > 0 && dun < 0.5 * last_full &&
+                           dun / last_full * dun <= ns.tol_velocity * x.u.norm();
+    const bool keep_full_step = iter < ns.max_iterations && !predicted;
     Iterate trial;
     double s = 1;
     for (int cut = 0;; ++cut) {
       trial.u = x.u + s * dx.head(n);
       trial.ln = x.ln, trial.lt = x.lt;
       for (std::size_t j = 0; j < m; ++j) trial.ln[j] += s * dx[n + 2 * j], trial.lt[j] += s * dx[n + 2 * j + 1];
+      const bool keep = keep_full_step && cut == 0;
+      if (keep) problem.keep_tangent_terms(true);
       forces(problem, trial);
+      if (keep) problem.keep_tangent_terms(false);
       rows(v, trial, &x);
       const double L = lagrangian(trial, ln_plus, lt_plus);
       bool ok = std::isfinite(L) && std::isfinite(trial.norm);

@@ -155,6 +155,10 @@ class SsnStepSolver final : public StepSolver {
   // Newton step with them condensed.
   bool condensable(const Iterate& it) const;
   bool condensed_step(const SpMat& K, const Iterate& it, Vec& dx);
+  // A = Q^T A Q in place, Q the rotation of the dofs of row_of's rows to
+  // their (n, t) frames (condensed_step); false where the pattern does not
+  // allow it.
+  bool rotate_in_place(SpMat& A, const std::vector<int>& row_of) const;
   // Whether every row meets its own set's conditions at it to kRowGap and
   // kRowSlip (ssn_step_solver.cpp).
   bool rows_meet(const StepView& v, const Iterate& it) const;
