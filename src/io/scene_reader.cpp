@@ -197,6 +197,8 @@ RunLimits read_run(CaseSection run, const std::string& file, Scene& sc) {
   lim.mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
   sc.penetration_tolerance =
       run.real("penetration_tolerance", 1e-3, Range::positive(), "largest penetration / element size accepted");
+  sc.min_scaled_jacobian = run.real("min_scaled_jacobian", 0.1, {-1, 1, false, false},
+                                    "least scaled Jacobian a run without remeshing accepts without a warning");
   constexpr int kMost = std::numeric_limits<int>::max();
   lim.max_elements = run.integer("max_elements", 2000000, 1, kMost);
   lim.max_nodes = run.integer("max_nodes", 2500000, 1, kMost);
