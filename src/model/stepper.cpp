@@ -1,6 +1,7 @@
 #include "model/stepper.hpp"
 
 #include <algorithm>
+#include <any>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -108,6 +109,7 @@ class Runner {
     bool inverted = false;    // failed: an element inverted in the move
     double quality = 0;       // the moved configuration's least scaled Jacobian
     Index quality_element = -1;  // its element
+    std::vector<std::string> events;  // the contact events of all its solves, failed or not
   };
   // Scales, materials, the run's start for the observer.
   void set_up();
@@ -551,6 +553,8 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   Solution mid;
   auto failed = [&](const Solution& f, const std::string& why) {
     out.rcond = f.rcond, out.stalled = f.stalled, out.factorized = true;
+    if (&f != &mid) out.events = mid.events;
+    out.events.insert(out.events.end(), f.events.begin(), f.events.end());
     return why;
   };
   if (midpoint) {
@@ -581,11 +585,13 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   constexpr double kReflexTolerance = 1e-9;
   if (!(mq.min_gauss_jacobian > 0)) {
     out.inverted = true;
+    out.events = mid.events;
     return element_name(mq.worst_gauss_element) + " inverts at a Gauss point (Jacobian determinant " +
            sci(mq.min_gauss_jacobian) + " mm^2; min scaled Jacobian " + sci(q) + ")";
   }
   if (!(q > -std::max(kReflexTolerance, 2 * last_penetration_rel_))) {
     out.inverted = true;
+    out.events = mid.events;
     return element_name(mq.worst_jacobian_element) + " inverts (min scaled Jacobian " + sci(q) + ")";
   }
   out.sol = solve(out.next, mover->v, step, dt, nullptr, !midpoint);
@@ -593,6 +599,7 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   out.moved_by = mover->v;
   // Contact events found by the half-step solve belong to this step.
   out.sol.events.insert(out.sol.events.begin(), mid.events.begin(), mid.events.end());
+  out.events = out.sol.events;
   out.sol.iterations += mid.iterations;
   out.sol.solves += mid.solves;
   return "";
@@ -608,6 +615,14 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   int cuts = 0, redone = 0;
   bool landed = to_landing;
   contact_.remember_start_gaps();
+  // An attempt that is not kept leaves the contact state as the step
+  // started (a retry starts from it, not from what the failed attempt
+  // settled); its events are reported as a failed attempt's.
+  const std::any start_state = contact_.save_state();
+  const auto discard = [&] {
+    obs_.on_discarded(step, a.events);
+    contact_.restore_state(start_state);
+  };
   for (;;) {
     a = Attempt{};
     std::string why = attempt(st, sol, step, dt, a);
@@ -623,6 +638,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
       const std::optional<double> t = contact_.overshoot();
       if (t && *t > std::ldexp(1.0, -scene_.stepping.max_cuts)) {
         ++redone, landed = true;
+        discard();
         obs_.on_retry(step, *t * dt, "a contact row ends the step too deep; redone to " + sci(*t) + " of it");
         dt *= *t;
         continue;
@@ -632,6 +648,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     if (scene_.remesh.enabled && (a.inverted || poor) && step > segment_first_step_ + 1) {
       // Remesh the last configuration rather than creep up to the fold.
       out_.remesh = "step " + std::to_string(step) + ": " + why;
+      discard();
       return false;
     }
     // A fresh mesh (the run's first, or a remesh's) whose first step falls
@@ -646,8 +663,10 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
       // anew).
       if (a.inverted && !scene_.remesh.enabled)
         out_.reason += "; the mesh is too distorted to go on: remesh it (a [remesh] table with enabled = true)";
+      discard();
       return false;
     }
+    discard();
     obs_.on_retry(step, 0.5 * dt, why);
     dt *= 0.5;
     ++cuts;
