@@ -106,11 +106,14 @@ def run_row(r):
         "%.3f" % s["time_per_step_s"] if "time_per_step_s" in s else "",
         "%.2f" % final_load_kN(r),
         "%.1e" % pen if pen == pen else "",
+        # What the run could not vouch for (summary.json's warnings: a
+        # penetration, an ill-conditioned tangent, a distorted mesh).
+        "; ".join(s.get("warnings", [])),
     ]
 
 
 HEADER = ["run", "status", "steps", "wall time (s)", "time per step (s)", "final load (kN)",
-          "max penetration / element size"]
+          "max penetration / element size", "warnings"]
 
 
 def flags_block(lines):

@@ -45,6 +45,16 @@ class AugLagEnforcement final : public RegularizedEnforcement {
   void columns(std::vector<NamedValue>& out) const override;
   std::optional<double> penetration_rel() const override { return primal_; }
   void derived(std::vector<NamedValue>& out) const override;
+  std::any save_state() const override {
+    return save_members(RegularizedEnforcement::save_state(), lambda_, solve_augmentations_, augmentations_, step_,
+                        primal_, complementarity_, last_step_, omega_);
+  }
+  void restore_state(const std::any& saved) override {
+    std::any base;
+    restore_members(saved, base, lambda_, solve_augmentations_, augmentations_, step_, primal_, complementarity_,
+                    last_step_, omega_);
+    RegularizedEnforcement::restore_state(base);
+  }
 
  private:
   // The residuals of the last solve into primal_ and complementarity_.

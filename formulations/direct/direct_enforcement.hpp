@@ -29,6 +29,7 @@
 
 #include "contact/enforcement.hpp"
 #include "contact/row_terms.hpp"
+#include "contact/saved_members.hpp"
 #include "io/case_file.hpp"
 #include "model/scene.hpp"
 
@@ -59,6 +60,14 @@ class DirectEnforcement final : public ContactEnforcement {
   bool places_on_surfaces() const override { return true; }
   double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
   void columns(std::vector<NamedValue>& out) const override;
+  std::any save_state() const override {
+    return save_members(rows_, state_, now_, kw_, bound_, live_, started_, tangent_bound_, merit_bound_, results_,
+                        touches_, smoothing_, fixed_point_, coulomb_change_, max_placement_, max_overshoot_);
+  }
+  void restore_state(const std::any& saved) override {
+    restore_members(saved, rows_, state_, now_, kw_, bound_, live_, started_, tangent_bound_, merit_bound_, results_,
+                    touches_, smoothing_, fixed_point_, coulomb_change_, max_placement_, max_overshoot_);
+  }
 
  private:
   struct State {

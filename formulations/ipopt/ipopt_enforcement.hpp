@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "contact/enforcement.hpp"
+#include "contact/saved_members.hpp"
 #include "io/case_file.hpp"
 #include "ipopt/ipopt_step_solver.hpp"
 #include "model/scene.hpp"
@@ -45,6 +46,18 @@ class IpoptEnforcement final : public ContactEnforcement {
   void derived(std::vector<NamedValue>& out) const override;
   std::optional<double> friction_violation() const override {
     return exact_any_ ? std::optional<double>(std::max(kkt_friction_, kkt_stick_slip_)) : std::nullopt;
+  }
+  // The contact state (the solver's own warm start is a solve's: each
+  // solve's first pass starts from the rows' forces, BoundRow::start_force).
+  std::any save_state() const override {
+    return save_members(rows_, bound_rows_, bound_of_, bound_, cap_, last_g_, last_Fg_, flips_, on_, flipped_, results_,
+                        latest_force_, latest_friction_, accepted_[0], accepted_[1], in_step_, solve_time_,
+                        friction_change_, kkt_friction_, kkt_stick_slip_, stick_, slip_);
+  }
+  void restore_state(const std::any& saved) override {
+    restore_members(saved, rows_, bound_rows_, bound_of_, bound_, cap_, last_g_, last_Fg_, flips_, on_, flipped_,
+                    results_, latest_force_, latest_friction_, accepted_[0], accepted_[1], in_step_, solve_time_,
+                    friction_change_, kkt_friction_, kkt_stick_slip_, stick_, slip_);
   }
 
  private:

@@ -77,6 +77,7 @@
 
 #include "contact/contact_surfaces.hpp"
 #include "contact/discretization.hpp"
+#include "contact/saved_members.hpp"
 #include "io/case_file.hpp"
 #include "model/scene.hpp"
 
@@ -105,6 +106,8 @@ class Mortar final : public ContactDiscretization {
   // inside the slave (Test I: 0.006 h at 1 mm), would be the new rows, and
   // two equal spheres swapped at a remesh by round-off (docs/decisions.md).
   void take_over(const ContactZones& zones) override;
+  std::any save_state() const override { return save_members(slave_); }
+  void restore_state(const std::any& saved) override { restore_members(saved, slave_); }
 
  private:
   // The rows of interface `iface` with side `s` the slave (0 against a die).

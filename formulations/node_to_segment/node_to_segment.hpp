@@ -20,6 +20,7 @@
 
 #include "contact/contact_surfaces.hpp"
 #include "contact/discretization.hpp"
+#include "contact/saved_members.hpp"
 #include "contact/segment_search.hpp"
 #include "io/case_file.hpp"
 #include "model/scene.hpp"
@@ -38,6 +39,10 @@ class NodeToSegment final : public ContactDiscretization {
     surfaces_.areas(v, rows, in_contact, out);
   }
   void columns(const StepView* v, std::vector<NamedValue>& out) const override;
+  std::any save_state() const override { return save_members(roles_, master_penetration_, role_switches_); }
+  void restore_state(const std::any& saved) override {
+    restore_members(saved, roles_, master_penetration_, role_switches_);
+  }
 
  private:
   struct Roles {

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "contact/enforcement.hpp"
+#include "contact/saved_members.hpp"
 #include "io/case_file.hpp"
 #include "model/scene.hpp"
 #include "ssn/ssn_step_solver.hpp"
@@ -49,6 +50,14 @@ class SsnEnforcement final : public ContactEnforcement {
   std::optional<double> penetration_rel() const override { return primal_; }
   std::optional<double> friction_violation() const override { return std::max(friction_, stick_slip_); }
   void derived(std::vector<NamedValue>& out) const override;
+  std::any save_state() const override {
+    return save_members(rows_, state_, c_, results_, latest_, primal_, complementarity_, friction_, stick_slip_,
+                        measured_step_, stick_, slip_);
+  }
+  void restore_state(const std::any& saved) override {
+    restore_members(saved, rows_, state_, c_, results_, latest_, primal_, complementarity_, friction_, stick_slip_,
+                    measured_step_, stick_, slip_);
+  }
 
  private:
   // mm/s: the scene's largest prescribed speed (the solver's setting).

@@ -98,7 +98,7 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
   for (const auto& m : monitors_) cols.push_back(m.name);
   history_ = std::make_unique<HistoryWriter>(dir_ + "/history.csv", cols);
   events_path_ = dir_ + "/events.csv";
-  write_text_atomically(events_path_, "step,time,event\n");
+  write_text_atomically(events_path_, "step,time,attempt,event\n");
   write_summary();
 }
 
@@ -137,14 +137,12 @@ void RunObserver::on_step(const StepRecord& r) {
     auto* entry = remeshes_.back().as_table();
     entry->insert_or_assign("load_jump_trend", jump);
     summary_.insert_or_assign("remeshes", remeshes_);
-    std::ofstream(events_path_, std::ios::app) << r.step << "," << r.time << ",remesh next step's load against the trend "
-                                               << jump << "\n";
+    std::ostringstream text;
+    text << "remesh next step's load against the trend " << jump;
+    write_events(r.step, r.time, {text.str()});
     jump_pending_ = false;
   }
-  if (!r.events.empty()) {
-    std::ofstream ev(events_path_, std::ios::app);
-    for (const auto& e : r.events) ev << r.step << "," << r.time << "," << e << "\n";
-  }
+  write_events(r.step, r.time, r.events);
   if (r.step % scene_.stepping.output_every == 0) {
     writer_->write_step(fields(r));
     last_field_step_ = r.step;
@@ -201,7 +199,7 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
                 "and put back on the free surface), strain integral change %.3g, largest strain change %.3g",
                 why.c_str(), (long long)m.num_elements(), (long long)m.num_nodes(), c.volume, re.overlap_restored,
                 c.strain_integral, c.strain_max);
-  std::ofstream(events_path_, std::ios::app) << last_step_ << "," << last_.time << "," << line << "\n";
+  write_events(last_step_, last_.time, {line});
   remeshes_.push_back(toml::table{{"step", last_step_},
                                   {"stroke_mm", last_.stroke},
                                   {"reason", why},
@@ -228,18 +226,28 @@ void RunObserver::on_resumed(const StepRecord& r) {
   char text[160];
   std::snprintf(text, sizeof text, "remesh load jump %.6g (same configuration: %.6g kN on the new mesh, %.6g on the old)",
                 change, r.loads[k].norm() / 1e3, before.norm() / 1e3);
-  std::ofstream ev(events_path_, std::ios::app);
-  ev << r.step << "," << r.time << "," << text << "\n";
+  write_events(r.step, r.time, {text});
   // What the new mesh's first solve met (contact taken over, touches).
-  for (const auto& e : r.events) ev << r.step << "," << r.time << "," << e << "\n";
+  write_events(r.step, r.time, r.events);
 }
 
 void RunObserver::on_retry(int step, double dt, const std::string& why) {
   if (!quiet_) std::printf("  step %5d  retry with dt %.3g s: %s\n", step, dt, why.c_str());
   // The log keeps every failed attempt's reason (a run slowed by halvings
   // says why).
-  std::ofstream(events_path_, std::ios::app) << step << "," << last_.time << ",retry with dt " << dt
-                                             << " s: " << why << "\n";
+  std::ostringstream line;
+  line << "retry with dt " << dt << " s: " << why;
+  write_events(step, last_.time, {line.str()}, true);
+}
+
+void RunObserver::on_discarded(int step, const std::vector<std::string>& events) {
+  write_events(step, last_.time, events, true);
+}
+
+void RunObserver::write_events(int step, double time, const std::vector<std::string>& events, bool failed) const {
+  if (events.empty()) return;
+  std::ofstream ev(events_path_, std::ios::app);
+  for (const auto& e : events) ev << step << "," << time << "," << (failed ? "failed" : "kept") << "," << e << "\n";
 }
 
 void RunObserver::write_summary() {

@@ -25,6 +25,7 @@ class RunObserver final : public StepObserver {
                 const std::vector<std::string>& report_names) override;
   void on_step(const StepRecord& r) override;
   void on_retry(int step, double dt, const std::string& why) override;
+  void on_discarded(int step, const std::vector<std::string>& events) override;
   // After a remesh: the load on the new mesh at the configuration of the
   // remesh against the load recorded there on the old mesh (the remesh's
   // own load change, no stroke between them).
@@ -46,6 +47,9 @@ class RunObserver final : public StepObserver {
 
  private:
   void write_summary();
+  // Lines of events.csv at (step, time): `kept` for the run's record,
+  // `failed` for an attempt at a step that was not kept.
+  void write_events(int step, double time, const std::vector<std::string>& events, bool failed = false) const;
   // A step's record as result.h5 takes it: fields, loads and monitors, the
   // dies' profiles at its time.
   StepFields fields(const StepRecord& r) const;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "contact/saved_members.hpp"
 #include "mesh/polygon.hpp"
 #include "model/boundary.hpp"
 #include "model/scene.hpp"
@@ -152,6 +153,18 @@ void ContactModel::end_step(const StepView& v, const std::vector<Vec2>& vel) {
   for (std::size_t i = 0; i < rows_.size() && i < res.size(); ++i)
     if (!res[i].in_contact) offsets_.erase({rows_[i].iface, rows_[i].key});
   enf_->end_step(v, vel);
+}
+
+std::any ContactModel::save_state() const {
+  return save_members(rows_, events_, touching_, start_gaps_, max_drift_, solved_, taken_, offsets_, disc_->save_state(),
+                      enf_->save_state());
+}
+
+void ContactModel::restore_state(const std::any& saved) {
+  std::any disc, enf;
+  restore_members(saved, rows_, events_, touching_, start_gaps_, max_drift_, solved_, taken_, offsets_, disc, enf);
+  disc_->restore_state(disc);
+  enf_->restore_state(enf);
 }
 
 ContactZones ContactModel::contact_zones(const std::vector<Vec2>& x) const {

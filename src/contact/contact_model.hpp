@@ -52,6 +52,8 @@ class ContactModel final : public ContactFormulation {
   std::optional<double> overshoot() const override;
   double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
   void end_step(const StepView& v, const std::vector<Vec2>& vel) override;
+  std::any save_state() const override;
+  void restore_state(const std::any& saved) override;
   ContactZones contact_zones(const std::vector<Vec2>& x) const override;
   void take_over(const ContactZones& zones) override {
     taken_ = zones;

@@ -34,6 +34,10 @@ class ContactDiscretization {
   // treatment left (model/contact_formulation.hpp). A discretization whose
   // roles are chosen once keeps them.
   virtual void take_over(const ContactZones&) {}
+  // Every member rows() changes (roles), for ContactFormulation::save_state
+  // (contact/saved_members.hpp).
+  virtual std::any save_state() const = 0;
+  virtual void restore_state(const std::any&) = 0;
   // Its own per-step scalars (history.csv): names, then values in order;
   // v: the configuration recorded (nullptr: the names only).
   virtual void columns(const StepView* v, std::vector<NamedValue>& out) const {}

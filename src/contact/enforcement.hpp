@@ -40,6 +40,10 @@ class ContactEnforcement {
   virtual bool places_on_surfaces() const { return false; }
   virtual double place_on_surfaces(const StepView&, std::vector<Vec2>& x) { return 0; }
   virtual void end_step(const StepView&, const std::vector<Vec2>& v) {}
+  // Every member a solve changes, for ContactFormulation::save_state
+  // (contact/saved_members.hpp).
+  virtual std::any save_state() const = 0;
+  virtual void restore_state(const std::any&) = 0;
   // Its own per-step scalars: names and values in a fixed order.
   virtual void columns(std::vector<NamedValue>& out) const {}
   // Largest penetration per element size it measures itself (the end-of-

@@ -27,6 +27,7 @@
 #include "contact/discretization.hpp"
 #include "contact/enforcement.hpp"
 #include "contact/row_terms.hpp"
+#include "contact/saved_members.hpp"
 #include "model/contact_formulation.hpp"
 
 namespace rpfem {
@@ -67,6 +68,13 @@ class RegularizedRows {
   bool engaged(std::size_t i) const { return one_sided() ? !(*rows_)[i].free : bool(active_[i]); }
   double beta(std::size_t i) const { return laws_[i].beta; }
   const RegularizedSettings& settings() const { return s_; }
+  // Its state, for ContactEnforcement::save_state.
+  std::any save_state() const {
+    return save_members(rows_, state_, active_, changed_, laws_, lambda_, merit_bound_, res_, results_, smoothing_);
+  }
+  void restore_state(const std::any& saved) {
+    restore_members(saved, rows_, state_, active_, changed_, laws_, lambda_, merit_bound_, res_, results_, smoothing_);
+  }
 
  private:
   bool one_sided() const { return s_.gap_correction; }
@@ -102,6 +110,12 @@ class RegularizedEnforcement : public ContactEnforcement {
   TangentKind tangent() const override { return rows_.tangent(); }
   void anchor_merit(const StepView&, const std::vector<Vec2>& vel) override { rows_.anchor_merit(vel); }
   const std::vector<RowResult>& results() const override { return rows_.results(); }
+  std::any save_state() const override { return save_members(rows_.save_state(), events_); }
+  void restore_state(const std::any& saved) override {
+    std::any rows;
+    restore_members(saved, rows, events_);
+    rows_.restore_state(rows);
+  }
 
  protected:
   // The contact state after a converged solve, with the events of the

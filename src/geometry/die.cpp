@@ -11,6 +11,12 @@ namespace {
 Vec2 right_normal(const Vec2& d) { return Vec2(d(1), -d(0)); }
 }  // namespace
 
+double fillet_tangent_length(const Vec2& a, const Vec2& b, const Vec2& c, double r) {
+  const Vec2 d1 = (b - a).normalized(), d2 = (c - b).normalized();
+  const double turn = std::atan2(cross(d1, d2), d1.dot(d2));
+  return std::abs(turn) < 1e-12 ? 0.0 : r * std::tan(std::abs(turn) / 2);
+}
+
 DieProfile::DieProfile(const std::vector<Vec2>& v, const std::vector<double>& fillets) {
   if (v.size() < 2) throw std::invalid_argument("a die profile needs at least two vertices");
   if (!fillets.empty() && fillets.size() != v.size())
@@ -25,7 +31,7 @@ DieProfile::DieProfile(const std::vector<Vec2>& v, const std::vector<double>& fi
     const Vec2 d1 = (v[i] - v[i - 1]).normalized(), d2 = (v[i + 1] - v[i]).normalized();
     const double turn = std::atan2(cross(d1, d2), d1.dot(d2));  // > 0: left turn, convex die corner
     if (std::abs(turn) < 1e-12) continue;
-    const double t = r * std::tan(std::abs(turn) / 2);
+    const double t = fillet_tangent_length(v[i - 1], v[i], v[i + 1], r);
     if (t > (v[i] - v[i - 1]).norm() + 1e-12 || t > (v[i + 1] - v[i]).norm() + 1e-12)
       throw std::invalid_argument("fillet radius too large for the neighbouring edges at vertex " + std::to_string(i));
     DiePiece a;

@@ -34,6 +34,12 @@ struct DieProjection {
   bool at_vertex = false;  // closest point is a sharp corner or a profile end
 };
 
+// The tangent length of a fillet of radius r at vertex b between the
+// segments a-b and b-c: r tan(theta / 2), theta the turn between them (0
+// where they are collinear); the arc runs from b back along a-b by this
+// much to b on along b-c by as much.
+double fillet_tangent_length(const Vec2& a, const Vec2& b, const Vec2& c, double r);
+
 class DieProfile {
  public:
   DieProfile() = default;

@@ -56,8 +56,16 @@ std::string Range::describe() const {
 // ---------------------------------------------------------------- CaseFile
 
 CaseFile::CaseFile(const std::string& path, const std::vector<std::string>& overrides) : path_(path) {
-  if (!std::filesystem::exists(path)) throw InputError(path + ": no such case file");
-  if (std::filesystem::is_directory(path))
+  // The error-code forms: a path the system cannot look up (a name longer
+  // than the file system allows, a component that is a file) is bad input,
+  // not a filesystem_error.
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    throw InputError(path + ": cannot read the case file: " + ec.message() + "; expected the path of a readable TOML file" +
+                     (ec == std::errc::filename_too_long ? " (a file name has at most 255 bytes on most file systems)" : ""));
+  if (!std::filesystem::exists(st)) throw InputError(path + ": no such case file");
+  if (std::filesystem::is_directory(st))
     throw InputError(path + ": a folder; expected a case file (TOML), e.g. one of the .toml files in it");
   try {
     data_ = toml::parse_file(path);

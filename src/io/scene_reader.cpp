@@ -197,6 +197,8 @@ RunLimits read_run(CaseSection run, const std::string& file, Scene& sc) {
   lim.mesh_factor = run.real("mesh_factor", 1.0, {0, 16, true, false}, "times each mesh's divisions");
   sc.penetration_tolerance =
       run.real("penetration_tolerance", 1e-3, Range::positive(), "largest penetration / element size accepted");
+  sc.min_scaled_jacobian = run.real("min_scaled_jacobian", 0.1, {-1, 1, false, false},
+                                    "least scaled Jacobian a run without remeshing accepts without a warning");
   constexpr int kMost = std::numeric_limits<int>::max();
   lim.max_elements = run.integer("max_elements", 2000000, 1, kMost);
   lim.max_nodes = run.integer("max_nodes", 2500000, 1, kMost);
@@ -273,6 +275,18 @@ void read_symmetry(CaseSection& root, Scene& sc) {
     p.at = s.real("at", 0.0, Range::any(), "mm");
     if (sc.geometry == Geometry::Axisymmetric && p.axis == 0)
       s.fail("normal", "in axisymmetry the axis r = 0 is built in; only planes normal to 'y' (z) apply");
+    // The plane holds the nodes on it (model/boundary.cpp, to the same
+    // tolerance): one through no node holds nothing, and the run (its
+    // loads and volume doubled) would describe a body that is not there.
+    const double tol = 1e-9 * sc.mesh.size();
+    double lo = INFINITY, hi = -INFINITY;
+    for (const Vec2& x : sc.mesh.x) lo = std::min(lo, x(p.axis)), hi = std::max(hi, x(p.axis));
+    if (!std::any_of(sc.mesh.x.begin(), sc.mesh.x.end(), [&](const Vec2& x) { return std::abs(x(p.axis) - p.at) <= tol; })) {
+      const std::string c = p.axis == 0 ? "x" : "y";
+      s.fail("at", "the plane " + c + " = " + std::to_string(p.at) + " mm holds no node (the bodies span " + c + " = " +
+                       std::to_string(lo) + " to " + std::to_string(hi) +
+                       " mm); a symmetry plane must hold nodes of a body (a side of its mesh on the plane)");
+    }
     sc.symmetry.push_back(p);
   }
 }
@@ -296,6 +310,34 @@ DieProfile read_die_profile(CaseSection& d, const std::string& name) {
                                                " (x = " + std::to_string(vertices[k](0)) + ", y = " +
                                                std::to_string(vertices[k](1)) +
                                                " mm): expected segments of positive length");
+  // Each fillet rounds the corner between its two segments, its arc
+  // within both (and clear of the next fillet's): one that does not fit
+  // made a profile that doubles back on itself.
+  const std::size_t last = vertices.size() - 1;
+  std::vector<double> tangent(vertices.size(), 0.0);
+  for (std::size_t k = 0; k <= last; ++k) {
+    if (!(fillets[k] > 0)) continue;
+    const std::string key = "vertex." + std::to_string(k) + ".fillet";
+    if (k == 0 || k == last)
+      d.fail(key, "vertex " + std::to_string(k) + " is an end of the profile; a fillet rounds the corner between two segments");
+    tangent[k] = fillet_tangent_length(vertices[k - 1], vertices[k], vertices[k + 1], fillets[k]);
+    const double before = (vertices[k] - vertices[k - 1]).norm(), after = (vertices[k + 1] - vertices[k]).norm();
+    if (!(tangent[k] > 0))
+      d.fail(key, "a fillet of " + std::to_string(fillets[k]) + " mm where the profile runs straight on (its segments, " +
+                      std::to_string(before) + " and " + std::to_string(after) +
+                      " mm long, are collinear): there is no corner to round; expected 0, or a fillet at a vertex "
+                      "where the profile turns");
+    if (tangent[k] > std::min(before, after) * (1 + 1e-12))
+      d.fail(key, "a fillet of " + std::to_string(fillets[k]) + " mm does not fit between its segments (" +
+                      std::to_string(before) + " and " + std::to_string(after) + " mm long): its arc takes " +
+                      std::to_string(tangent[k]) + " mm of each; expected at most " +
+                      std::to_string(fillets[k] * std::min(before, after) / tangent[k]) + " mm");
+    if (k > 1 && tangent[k] + tangent[k - 1] > before * (1 + 1e-12))
+      d.fail(key, "the fillets at vertices " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                      " do not fit on the segment between them (" + std::to_string(before) + " mm long): their arcs take " +
+                      std::to_string(tangent[k - 1]) + " and " + std::to_string(tangent[k]) +
+                      " mm of it; expected fillets whose arcs fit between their segments");
+  }
   try {
     return DieProfile(vertices, fillets);
   } catch (const std::invalid_argument& e) {

@@ -14,6 +14,11 @@ struct MeshQuality {
   Index worst_jacobian_element = -1;  // -1 for an empty mesh
   Index worst_aspect_element = -1;
   double min_area = 0;  // smallest signed element area (mm^2)
+  // The least Jacobian determinant at the 2x2 Gauss points (mm^2 over the
+  // parent square's area 4): <= 0 where an element is inverted at a point
+  // the stiffness is integrated at.
+  double min_gauss_jacobian = 0;
+  Index worst_gauss_element = -1;
 };
 
 MeshQuality mesh_quality(const Mesh& mesh);

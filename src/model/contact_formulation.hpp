@@ -9,6 +9,7 @@
 // never names a concrete treatment: formulations/factory.hpp builds one
 // from an enforcement and a discretization (src/contact/contact_model.hpp).
 #pragma once
+#include <any>
 #include <array>
 #include <map>
 #include <optional>
@@ -193,6 +194,13 @@ class ContactFormulation {
   virtual double place_on_surfaces(const StepView&, std::vector<Vec2>& x) { return 0; }
   // End of an accepted step: contact state carried to the next.
   virtual void end_step(const StepView&, const std::vector<Vec2>& v) {}
+  // The contact state a step's attempt changes (the rows in contact, the
+  // multipliers, the roles, the pending events): saved before a step's
+  // first attempt and restored after an attempt that is not kept (failed,
+  // or redone shorter), so that every attempt starts from the state the
+  // step started from. A treatment without state keeps the defaults.
+  virtual std::any save_state() const { return {}; }
+  virtual void restore_state(const std::any&) {}
   // At a remesh, on the old mesh's treatment: where bodies touch at x (the
   // last settled solve's contact state).
   virtual ContactZones contact_zones(const std::vector<Vec2>& x) const { return {}; }

@@ -172,6 +172,9 @@ struct Scene {
   // Largest penetration over the local element size the run accepts
   // without a warning (run.penetration_tolerance).
   double penetration_tolerance = 1e-3;
+  // Least scaled Jacobian a run without remeshing accepts without a
+  // warning (run.min_scaled_jacobian).
+  double min_scaled_jacobian = 0.1;
 
   // The largest prescribed speed (dies and velocity groups), mm/s.
   double largest_speed() const {

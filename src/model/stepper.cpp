@@ -1,6 +1,7 @@
 #include "model/stepper.hpp"
 
 #include <algorithm>
+#include <any>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -107,6 +108,8 @@ class Runner {
     bool stalled = false;
     bool inverted = false;    // failed: an element inverted in the move
     double quality = 0;       // the moved configuration's least scaled Jacobian
+    Index quality_element = -1;  // its element
+    std::vector<std::string> events;  // the contact events of all its solves, failed or not
   };
   // Scales, materials, the run's start for the observer.
   void set_up();
@@ -129,8 +132,13 @@ class Runner {
   State advance(const State& st, const Solution& sol, double dt) const;
   StepView view(const State& st, int step, double dt) const;
   // quality: the configuration's least scaled Jacobian.
+  // quality_element: its element (-1: not tracked).
   void record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality,
-              bool resumed = false, bool landing = false);
+              Index quality_element, bool resumed = false, bool landing = false);
+  // "element E of body B" (result.h5's element numbering).
+  std::string element_name(Index e) const {
+    return "element " + std::to_string(e) + " of body '" + scene_.mesh.body_names[scene_.mesh.element_body[e]] + "'";
+  }
   RunOutcome finish();
   const Die* find_die(const std::string& name) const {
     for (const Die& d : scene_.dies)
@@ -153,6 +161,11 @@ class Runner {
   int min_rcond_step_ = -1, floor_steps_ = 0, worst_floor_step_ = -1;
   double worst_floor_ = 0;
   int penetrating_steps_ = 0, worst_penetration_step_ = -1;
+  // Without remeshing: the steps whose least scaled Jacobian fell below
+  // run.min_scaled_jacobian, the first and the worst (step, element).
+  int distorted_steps_ = 0, first_distorted_step_ = -1, worst_distorted_step_ = -1;
+  Index first_distorted_element_ = -1, worst_distorted_element_ = -1;
+  double first_distorted_ = 0, worst_distorted_ = INFINITY, first_distorted_stroke_ = 0, worst_distorted_stroke_ = 0;
   double segment_start_stroke_ = 0;  // mm: where this run started (a resume's stroke)
   int segment_first_step_ = 0;       // the step this run started at (a resume's)
   double segment_start_quality_ = 1;  // the least scaled Jacobian of its first configuration
@@ -333,7 +346,7 @@ State Runner::advance(const State& st, const Solution& sol, double dt) const {
 }
 
 void Runner::record(const State& st, const Solution& sol, int step, double dt, int cuts, double quality,
-                    bool resumed, bool landing) {
+                    Index quality_element, bool resumed, bool landing) {
   StepRecord r;
   r.step = step;
   r.time = st.time;
@@ -364,6 +377,14 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
     if (const auto f = cr.friction_violation; f && !(*f <= kFrictionTolerance)) {
       ++friction_steps_;
       if (!(*f <= worst_friction_)) worst_friction_ = *f, worst_friction_step_ = step, worst_friction_stroke_ = st.stroke;
+    }
+    if (!scene_.remesh.enabled && quality < scene_.min_scaled_jacobian) {
+      if (distorted_steps_++ == 0)
+        first_distorted_ = quality, first_distorted_step_ = step, first_distorted_element_ = quality_element,
+        first_distorted_stroke_ = st.stroke;
+      if (quality < worst_distorted_)
+        worst_distorted_ = quality, worst_distorted_step_ = step, worst_distorted_element_ = quality_element,
+        worst_distorted_stroke_ = st.stroke;
     }
     if (const auto pen = cr.penetration_rel) {
       penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
@@ -430,6 +451,21 @@ RunOutcome Runner::finish() {
                             sci(worst_penetration_stroke_) + " mm), above run.penetration_tolerance = " +
                             sci(scene_.penetration_tolerance) + " at " + std::to_string(penetrating_steps_) +
                             " step(s); raise the contact penalty (formulations.penalty.beta_factor)");
+  if (distorted_steps_ > 0) {
+    // A mesh this distorted integrates its elements poorly (a corner angle
+    // of asin(0.1) = 5.7 degrees at the default): the fields near the
+    // element, and the loads, are doubtful.
+    std::string w = "mesh distorted: least scaled Jacobian below run.min_scaled_jacobian = " +
+                    sci(scene_.min_scaled_jacobian) + " from step " + std::to_string(first_distorted_step_) +
+                    " (stroke " + sci(first_distorted_stroke_) + " mm, " + element_name(first_distorted_element_) +
+                    ", " + sci(first_distorted_) + ")";
+    if (worst_distorted_step_ != first_distorted_step_)
+      w += ", down to " + sci(worst_distorted_) + " at step " + std::to_string(worst_distorted_step_) + " (stroke " +
+           sci(worst_distorted_stroke_) + " mm, " + element_name(worst_distorted_element_) + ")";
+    out_.warnings.push_back(w + ", at " + std::to_string(distorted_steps_) +
+                            " step(s) (history.csv: min_scaled_jacobian); remesh the bodies (a [remesh] table with "
+                            "enabled = true)");
+  }
   const LinearSolveStats& ls = ws_.linear.stats();
   out_.assembly_seconds = ws_.assembly_seconds;
   out_.residual_seconds = ws_.residual_seconds;
@@ -517,6 +553,8 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   Solution mid;
   auto failed = [&](const Solution& f, const std::string& why) {
     out.rcond = f.rcond, out.stalled = f.stalled, out.factorized = true;
+    if (&f != &mid) out.events = mid.events;
+    out.events.insert(out.events.end(), f.events.begin(), f.events.end());
     return why;
   };
   if (midpoint) {
@@ -530,7 +568,9 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   moved.x = moved.x_from = &out.next.x;
   moved.time_from = out.next.time;
   contact_.place_on_surfaces(moved, out.next.x);
-  const double q = out.quality = mesh_quality(scene_.mesh, out.next.x).min_scaled_jacobian;
+  const MeshQuality mq = mesh_quality(scene_.mesh, out.next.x);
+  const double q = out.quality = mq.min_scaled_jacobian;
+  out.quality_element = mq.worst_jacobian_element;
   // A corner angle of exactly 180 degrees (scaled Jacobian 0) is not an
   // inversion: it is what a side node folding over onto a flat die makes of
   // its element's corner (the element stays integrable); only a reflex
@@ -540,16 +580,26 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   // within about 2 d / h (the scaled Jacobian of a corner is the sine of
   // its angle): a reflex angle within that reach is the same fold, not an
   // inversion.
+  // An element inverted at a Gauss point (det J <= 0 where its stiffness
+  // is integrated) is inverted whatever its corners say.
   constexpr double kReflexTolerance = 1e-9;
+  if (!(mq.min_gauss_jacobian > 0)) {
+    out.inverted = true;
+    out.events = mid.events;
+    return element_name(mq.worst_gauss_element) + " inverts at a Gauss point (Jacobian determinant " +
+           sci(mq.min_gauss_jacobian) + " mm^2; min scaled Jacobian " + sci(q) + ")";
+  }
   if (!(q > -std::max(kReflexTolerance, 2 * last_penetration_rel_))) {
     out.inverted = true;
-    return "an element inverts (min scaled Jacobian " + std::to_string(q) + ")";
+    out.events = mid.events;
+    return element_name(mq.worst_jacobian_element) + " inverts (min scaled Jacobian " + sci(q) + ")";
   }
   out.sol = solve(out.next, mover->v, step, dt, nullptr, !midpoint);
   if (!out.sol.failure.empty()) return failed(out.sol, out.sol.failure);
   out.moved_by = mover->v;
   // Contact events found by the half-step solve belong to this step.
   out.sol.events.insert(out.sol.events.begin(), mid.events.begin(), mid.events.end());
+  out.events = out.sol.events;
   out.sol.iterations += mid.iterations;
   out.sol.solves += mid.solves;
   return "";
@@ -565,6 +615,14 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   int cuts = 0, redone = 0;
   bool landed = to_landing;
   contact_.remember_start_gaps();
+  // An attempt that is not kept leaves the contact state as the step
+  // started (a retry starts from it, not from what the failed attempt
+  // settled); its events are reported as a failed attempt's.
+  const std::any start_state = contact_.save_state();
+  const auto discard = [&] {
+    obs_.on_discarded(step, a.events);
+    contact_.restore_state(start_state);
+  };
   for (;;) {
     a = Attempt{};
     std::string why = attempt(st, sol, step, dt, a);
@@ -580,6 +638,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
       const std::optional<double> t = contact_.overshoot();
       if (t && *t > std::ldexp(1.0, -scene_.stepping.max_cuts)) {
         ++redone, landed = true;
+        discard();
         obs_.on_retry(step, *t * dt, "a contact row ends the step too deep; redone to " + sci(*t) + " of it");
         dt *= *t;
         continue;
@@ -589,6 +648,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     if (scene_.remesh.enabled && (a.inverted || poor) && step > segment_first_step_ + 1) {
       // Remesh the last configuration rather than creep up to the fold.
       out_.remesh = "step " + std::to_string(step) + ": " + why;
+      discard();
       return false;
     }
     // A fresh mesh (the run's first, or a remesh's) whose first step falls
@@ -598,8 +658,15 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
       out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) + " mm failed after " +
                     std::to_string(cuts) + " step halvings: " + why +
                     (a.factorized ? conditioning_note(a.rcond, a.stalled) : std::string());
+      // Without remeshing an inverted element ends the run: the mesh is too
+      // distorted to go on (the remesher would mesh the last configuration
+      // anew).
+      if (a.inverted && !scene_.remesh.enabled)
+        out_.reason += "; the mesh is too distorted to go on: remesh it (a [remesh] table with enabled = true)";
+      discard();
       return false;
     }
+    discard();
     obs_.on_retry(step, 0.5 * dt, why);
     dt *= 0.5;
     ++cuts;
@@ -612,7 +679,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   out_.total_newton_iterations += sol.iterations;
   out_.total_cuts += cuts;
   out_.steps = step;
-  record(st, sol, step, dt, cuts, a.quality, false, landed);
+  record(st, sol, step, dt, cuts, a.quality, a.quality_element, false, landed);
   last_dt_ = dt;
   // Remesh triggers (not at the end of the stroke).
   const RemeshSpec& rm = scene_.remesh;
@@ -683,8 +750,10 @@ RunOutcome Runner::run(const RunState* from) {
   // A resumed run's first solve starts it: the step it resumes at is on
   // record already (on its old mesh, after a remesh), so the observer
   // sees it apart (on_resumed).
-  segment_start_quality_ = mesh_quality(scene_.mesh, st.x).min_scaled_jacobian;
-  record(st, sol, first, from ? last_dt_ : 0.0, 0, segment_start_quality_, from != nullptr);
+  const MeshQuality start_quality = mesh_quality(scene_.mesh, st.x);
+  segment_start_quality_ = start_quality.min_scaled_jacobian;
+  record(st, sol, first, from ? last_dt_ : 0.0, 0, segment_start_quality_, start_quality.worst_jacobian_element,
+         from != nullptr);
   out_.total_newton_iterations += sol.iterations;
   const double end = scene_.stepping.end_stroke;
   const double eps = 1e-9 * std::max(end, 1.0);

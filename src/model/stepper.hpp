@@ -4,7 +4,8 @@
 // the integration points, eps += epsdot dt. Step 0 is the solve on the
 // initial configuration; every step records a configuration and the solution
 // on it. A failing step (Newton divergence, an inverted element) is redone
-// from the last accepted state with half the step, up to max_cuts times;
+// from the last accepted state, its contact state included
+// (ContactFormulation::save_state), with half the step, up to max_cuts times;
 // then the run stops, every finished step already recorded. The stop
 // reason carries the failing solve's least tangent condition estimate, and
 // says when it was ill-conditioned (la/linear_solver.hpp, solver/newton.hpp).
@@ -65,6 +66,10 @@ class StepObserver {
   virtual void on_step(const StepRecord&) = 0;
   // A step tried again with dt (s): why the last attempt was not kept.
   virtual void on_retry(int step, double dt, const std::string& why) {}
+  // The contact events of an attempt at a step that was not kept (failed,
+  // or redone shorter); its contact state is undone (the next attempt
+  // starts from the step's). Before the on_retry that follows it, if any.
+  virtual void on_discarded(int step, const std::vector<std::string>& events) {}
   // A resumed run's first solve, at the configuration it resumes from (the
   // step on record already, after a remesh on its old mesh): not a step.
   virtual void on_resumed(const StepRecord&) {}

@@ -322,7 +322,7 @@ TEST(RoleSwitch, CornerOfTheMasterMakesItTheSlave) {
   std::string line, first;
   std::vector<int> switch_steps;
   while (std::getline(events, line))
-    if (line.find("roles switch") != std::string::npos) {
+    if (line.find(",kept,") != std::string::npos && line.find("roles switch") != std::string::npos) {
       switch_steps.push_back(std::stoi(line.substr(0, line.find(','))));
       if (first.empty()) first = line;
     }

@@ -73,7 +73,7 @@ TEST_P(Remesh, UpsettingRemeshedEveryTenStepsKeepsTheExactLoad) {
   }
   EXPECT_EQ(jumps, 9);
   const std::string events = read_text(dir + "/events.csv");
-  EXPECT_NE(events.find("10,0.5,remesh (remesh.stroke_interval reached)"), std::string::npos) << events;
+  EXPECT_NE(events.find("10,0.5,kept,remesh (remesh.stroke_interval reached)"), std::string::npos) << events;
   // The new meshes in result.h5: the first remesh's from step 11 on.
   std::vector<unsigned long long> shape;
   read_h5_dataset(dir + "/result.h5", "/meshes/000011/connectivity", &shape);

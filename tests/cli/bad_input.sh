@@ -113,4 +113,24 @@ expect capture-tiny "patch_two_blocks.toml: key 'contact.capture': expected a nu
   "$rpfem" run "$src/cases/patch_two_blocks.toml" --out "$tmp/o31" -d mortar --set contact.capture=1e-300
 expect regularization-huge "key 'solver.regularization': with body 'billet' its viscosity is not finite" -- \
   "$rpfem" run "$base" --out "$tmp/o32" --set solver.alpha=1e-308 --set solver.regularization=1e308
+# A symmetry plane through no node of the ring (0 to 10 mm high) held
+# nothing and the run finished, its loads and volume doubled.
+expect symmetry-off-body "ring_compression.toml: key 'symmetry.0.at': the plane y = 50.000000 mm holds no node .*a symmetry plane must hold nodes of a body" -- \
+  "$rpfem" run "$src/cases/ring_compression.toml" --out "$tmp/o33" --set symmetry.0.at=50.0
+# A case path with a name longer than the file system allows ended in
+# "internal error: filesystem error ... File name too long" (exit 1).
+long=$tmp/$(printf 'c%.0s' $(seq 295)).toml
+expect case-name-too-long "$long: cannot read the case file: File name too long; expected the path of a readable TOML file" -- \
+  "$rpfem" run "$long" --out "$tmp/o34"
+# Fillets that do not fit between their segments: 1000 mm between two
+# collinear segments (5 and 20 mm) and at an end of the profile were
+# accepted without a word; 1000 mm at a right angle between them.
+punch=$src/cases/indentation_fillet_punch.toml
+expect fillet-straight "indentation_fillet_punch.toml: key 'dies.punch.vertex.1.fillet': a fillet of 1000.000000 mm where the profile runs straight on .*no corner to round" -- \
+  "$rpfem" run "$punch" --out "$tmp/o35" --set dies.punch.vertex.1.fillet=1000.0 \
+  --set dies.punch.vertex.2.x=24.0 --set dies.punch.vertex.2.y=10.0
+expect fillet-at-end "key 'dies.punch.vertex.2.fillet': vertex 2 is an end of the profile; a fillet rounds the corner between two segments" -- \
+  "$rpfem" run "$punch" --out "$tmp/o36" --set dies.punch.vertex.2.fillet=1000.0
+expect fillet-too-large "key 'dies.punch.vertex.1.fillet': a fillet of 1000.000000 mm does not fit between its segments (5.000000 and 20.000000 mm long): its arc takes 1000.000000 mm of each; expected at most 5.000000 mm" -- \
+  "$rpfem" run "$punch" --out "$tmp/o37" --set dies.punch.vertex.1.fillet=1000.0
 exit $fail

@@ -231,11 +231,23 @@ TEST(Mesh, InvertedElementHasNegativeQuality) {
   EXPECT_NEAR(q.min_scaled_jacobian, -1.0, 1e-12);
   EXPECT_EQ(q.worst_jacobian_element, 0);
   EXPECT_LT(q.min_area, 0.0);
+  EXPECT_NEAR(q.min_gauss_jacobian, -0.25, 1e-12);
   // A non-convex (arrow-head) element: one corner beyond 180 degrees.
   x = m.x;
   x[m.quads[0][2]] = Vec2(0.2, 0.2);
   EXPECT_LT(mesh_quality(m, x).min_scaled_jacobian, 0.0);
   EXPECT_GT(mesh_quality(m, x).min_area, 0.0);
+  // ... and inverted at the Gauss point next to it.
+  EXPECT_LT(mesh_quality(m, x).min_gauss_jacobian, 0.0);
+  EXPECT_EQ(mesh_quality(m, x).worst_gauss_element, 0);
+  // A corner just beyond 180 degrees (node 2 just inside the diagonal from
+  // node 1 to node 3): a reflex corner, the Gauss points still positive.
+  x = m.x;
+  x[m.quads[0][2]] = Vec2(0.49, 0.49);
+  EXPECT_LT(mesh_quality(m, x).min_scaled_jacobian, 0.0);
+  EXPECT_GT(mesh_quality(m, x).min_gauss_jacobian, 0.0);
+  // The unit square: det J = 1/4 (its area over the parent square's 4).
+  EXPECT_NEAR(mesh_quality(m).min_gauss_jacobian, 0.25, 1e-15);
   // A stretched element: aspect ratio 4, still a rectangle.
   x = m.x;
   for (auto& p : x) p(0) *= 4;
