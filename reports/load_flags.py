@@ -58,20 +58,22 @@ EVENT = re.compile(r"^(touch|release) node (\d+) (?:on|from) (?:die )?(\S+)")
 def changed_steps(folder):
     """The steps of a run whose set of rows in contact (node, interface)
     differs from the step before's, replaying events.csv's touches and
-    releases (a step may land a node and release another, the count
-    unchanged); empty without the file. Read once per folder (a report
+    releases of the kept attempts (a step may land a node and release
+    another, the count unchanged); empty without the file. Read once per folder (a report
     compares each scene's reference with every run)."""
     path = os.path.join(folder, "events.csv")
     if not os.path.exists(path):
         return frozenset()
     state, by_step = {}, {}
     with open(path) as f:
-        for row in csv.reader(f):
-            if len(row) < 3 or not row[0].isdigit():
+        for row in csv.DictReader(f):
+            # A failed attempt's events (attempt = failed) did not happen:
+            # the retry started from the state before them.
+            if not (row.get("step") or "").isdigit() or row.get("attempt") == "failed":
                 continue
-            m = EVENT.match(row[2])
+            m = EVENT.match(row.get("event") or "")
             if m:
-                by_step.setdefault(int(row[0]), []).append(((int(m.group(2)), m.group(3)), m.group(1) == "touch"))
+                by_step.setdefault(int(row["step"]), []).append(((int(m.group(2)), m.group(3)), m.group(1) == "touch"))
     changed, before = set(), frozenset()
     for step in sorted(by_step):
         for key, touch in by_step[step]:

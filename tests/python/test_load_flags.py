@@ -109,14 +109,16 @@ class LoadFlags(unittest.TestCase):
         self.assertTrue(load_flags.differences(r, ref))  # the count alone: the staircase flagged
         with tempfile.TemporaryDirectory() as d:
             with open(os.path.join(d, "events.csv"), "w") as f:
-                f.write("step,time,event\n")
+                f.write("step,time,attempt,event\n")
                 for k, s in enumerate(r["history"]["stroke"]):
                     if any(abs(s - x - 0.015) < 1e-9 for x in LANDINGS):
-                        f.write("%d,%g,touch node %d on billet-punch\n" % (k, s, 100 + k))
-                        f.write("%d,%g,release node %d from billet-punch\n" % (k, s, 7))
-                        f.write("%d,%g,touch node %d on billet-punch\n" % (k, s, 7))  # chatter: back at once
-                        f.write("%d,%g,release node %d on billet-punch\n" % (k, s, 90 + k))
-                f.write("%d,%g,solved by continuation of the limiting strain rate\n" % (50, 0.5))
+                        f.write("%d,%g,kept,touch node %d on billet-punch\n" % (k, s, 100 + k))
+                        f.write("%d,%g,kept,release node %d from billet-punch\n" % (k, s, 7))
+                        f.write("%d,%g,kept,touch node %d on billet-punch\n" % (k, s, 7))  # chatter: back at once
+                        f.write("%d,%g,kept,release node %d on billet-punch\n" % (k, s, 90 + k))
+                # A failed attempt's touch (its retry started from before it): no landing.
+                f.write("%d,%g,failed,touch node %d on billet-punch\n" % (40, 0.4, 300))
+                f.write("%d,%g,kept,solved by continuation of the limiting strain rate\n" % (50, 0.5))
             r["results"] = types.SimpleNamespace(folder=d)
             self.assertEqual(len(load_flags.changed_steps(d)), 3)
             self.assertEqual([round(b, 6) for _, b in load_flags.landing_intervals(r)], [1.015, 2.015, 3.015])
