@@ -6,11 +6,13 @@
 # LD_LIBRARY_PATH, finishes under both, and both end at the same load to
 # Ipopt's tolerance. OpenBLAS: the installed libopenblas0-pthread, else
 # the package unpacked into a scratch folder (apt-get download; the
-# system's BLAS is left as it is); neither: skipped (exit 77).
+# system's BLAS is left as it is); neither, or no reference BLAS: fails,
+# saying so, unless RPFEM_ALLOW_SKIP=1 skips it (exit 77).
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 . "$(dirname "$0")/lib/check.bash"
+. "$(dirname "$0")/lib/skip.bash"
 arch=$(gcc -print-multiarch 2>/dev/null || echo x86_64-linux-gnu)
 reference=/usr/lib/$arch/blas:/usr/lib/$arch/lapack
 openblas=/usr/lib/$arch/openblas-pthread
@@ -19,8 +21,8 @@ if [ ! -f "$openblas/libblas.so.3" ]; then
     dpkg -x "$tmp"/libopenblas0-pthread_*.deb "$tmp/root" 2> /dev/null
   openblas=$tmp/root/usr/lib/$arch/openblas-pthread
 fi
-[ -f "/usr/lib/$arch/blas/libblas.so.3" ] || { echo "skipped: Debian's reference BLAS (libblas3) is not installed"; exit 77; }
-[ -f "$openblas/libblas.so.3" ] || { echo "skipped: OpenBLAS neither installed nor downloadable"; exit 77; }
+[ -f "/usr/lib/$arch/blas/libblas.so.3" ] || cannot_test "Debian's reference BLAS (libblas3) is not installed"
+[ -f "$openblas/libblas.so.3" ] || cannot_test "OpenBLAS neither installed nor downloadable"
 case_file=$src/cases/paper_test2_die.toml
 for blas in reference openblas; do
   path=$([ $blas = reference ] && echo "$reference" || echo "$openblas")

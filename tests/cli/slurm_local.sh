@@ -2,8 +2,9 @@
 # scripts/slurm-local: a single-node Slurm cluster starts as root without
 # systemd, runs an 8-task job array (every task's output written), shows a
 # failed task's state and exit code in `scontrol show job`, and stops by
-# its pids (none left running). Skipped (exit 77) only where the cluster
-# cannot be had: not root, or Debian's packages cannot be installed.
+# its pids (none left running). Where the cluster cannot be had (not root,
+# or Debian's packages cannot be installed) it fails, saying why, unless
+# RPFEM_ALLOW_SKIP=1 skips it (exit 77).
 set -u
 src=$2
 tmp=$(mktemp -d)

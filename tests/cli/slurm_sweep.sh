@@ -9,7 +9,8 @@
 # one Slurm kills at its time limit are reported, and the table records
 # them as stopped, and the progress lines follow a running task's step and
 # stroke. The suite on Slurm builds the local suite's study table and its
-# report; a calibration on Slurm makes the local one's evaluations. Skipped (exit 77) where the cluster cannot be had.
+# report; a calibration on Slurm makes the local one's evaluations. Where
+# the cluster cannot be had it fails, unless RPFEM_ALLOW_SKIP=1 skips it.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d)

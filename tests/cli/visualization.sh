@@ -7,22 +7,24 @@
 # reader works on it (tests/python/test_rpfem_results.py). Then, where
 # installed: meshio reads the last step's deformed points; ParaView
 # (pvpython under xvfb-run) reads the bodies and dies, plots the stroke over
-# time and scripts/render.py renders a PNG. A missing tool is skipped with
-# a "skipped: ..." line; a present one that cannot read the files fails.
+# time and scripts/render.py renders a PNG (scripts/setup --tests installs
+# them). A missing tool fails, saying so, unless RPFEM_ALLOW_SKIP=1 skips
+# its checks (tests/cli/lib/skip.bash).
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 py=/usr/bin/python3
 fail=0
+. "$(dirname "$0")/lib/skip.bash"
 out=$("$rpfem" run "$src/cases/paper_test1_double_action.toml" --out "$tmp/o" --quiet \
   --set stepping.end_stroke=0.3 --set stepping.output_every=10 2>&1) || { echo "FAIL: run: $out"; exit 1; }
 "$py" "$src/tests/python/check_visualization.py" "$tmp/o" 2 2 || fail=1
 RPFEM_RUN="$tmp/o" "$py" "$src/tests/python/test_rpfem_results.py" 2>&1 | tail -4
 [ "${PIPESTATUS[0]}" -eq 0 ] || { echo "FAIL: tests/python/test_rpfem_results.py"; fail=1; }
 if ! command -v pvpython > /dev/null; then
-  echo "skipped: ParaView (pvpython is not installed)"
+  cannot_check "ParaView (pvpython is not installed: python3-paraview)"
 elif ! command -v xvfb-run > /dev/null; then
-  echo "skipped: ParaView (xvfb-run is not installed)"
+  cannot_check "ParaView's rendering (xvfb-run is not installed: xvfb)"
 else
   # Reading needs no display; rendering does: a virtual one, its number
   # away from other tests' (xvfb-run -a alone races with a server still
@@ -47,5 +49,5 @@ else
     fi
   done
 fi
-[ "$fail" -eq 0 ] && echo "ok: the results open in h5py, meshio, ParaView and rpfem_results"
+[ "$fail" -eq 0 ] && echo "ok: the results open in h5py, meshio, ParaView and rpfem_results (where not skipped)"
 exit "$fail"

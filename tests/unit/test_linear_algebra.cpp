@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -288,7 +289,12 @@ TEST(InlineOpenMP, RegionsRunInlineOnlyInsideTheScope) {
   }
   EXPECT_EQ(team, 2);
 #else
-  GTEST_SKIP() << "built without OpenMP";
+  // A check that cannot run fails unless the environment allows the skip
+  // (docs/testing.md).
+  const char* allow = std::getenv("RPFEM_ALLOW_SKIP");
+  if (allow == nullptr || std::string(allow) != "1")
+    FAIL() << "cannot run: built without OpenMP (RPFEM_ALLOW_SKIP=1 skips it)";
+  GTEST_SKIP() << "built without OpenMP (RPFEM_ALLOW_SKIP=1)";
 #endif
 }
 
