@@ -30,6 +30,7 @@ class PenaltyEnforcement final : public RegularizedEnforcement {
     return settle_state(v, vel);
   }
   void derived(std::vector<NamedValue>& out) const override { derived_betas("penalty", out); }
+  void columns(std::vector<NamedValue>& out) const override { adaptive_columns(out); }
 };
 
 }  // namespace rpfem

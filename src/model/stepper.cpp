@@ -429,7 +429,9 @@ RunOutcome Runner::finish() {
                             " of the element size at step " + std::to_string(worst_penetration_step_) + " (stroke " +
                             sci(worst_penetration_stroke_) + " mm), above run.penetration_tolerance = " +
                             sci(scene_.penetration_tolerance) + " at " + std::to_string(penetrating_steps_) +
-                            " step(s); raise the contact penalty (formulations.penalty.beta_factor)");
+                            " step(s); raise the contact penalty (formulations.penalty.beta_factor; under "
+                            "formulations.penalty.adapt its beta_max_factor) or shorten the steps "
+                            "(stepping.stroke_increment)");
   const LinearSolveStats& ls = ws_.linear.stats();
   out_.assembly_seconds = ws_.assembly_seconds;
   out_.residual_seconds = ws_.residual_seconds;
@@ -572,6 +574,18 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     // failed where the run remeshes.
     const bool poor = why.empty() && scene_.remesh.enabled && a.quality < scene_.remesh.reject_below;
     if (poor) why = "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below";
+    // The treatment changed its parameters for the step (a penalty raised
+    // where a row ended deeper than run.penetration_tolerance): solved
+    // again from the step's start, same length. The treatment bounds how
+    // often (contact/adaptive_penalty.hpp). Before the landing redo below:
+    // a raise is kept for the steps after, a shorter step is not.
+    if (why.empty()) {
+      if (const std::optional<std::string> t = contact_.retune()) {
+        ++out_.retunes;
+        obs_.on_retry(step, dt, *t);
+        continue;
+      }
+    }
     // A row that ended the step deeper than its enforcement saw: the step
     // redone shorter (to a landing, for a row open at the start), a few
     // times at most, not counted as a halving. A fraction below the
