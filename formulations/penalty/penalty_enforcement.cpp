@@ -16,6 +16,13 @@ RegularizedSettings read_settings(const Scene& scene, CaseSection& s, const Cont
   r.touch_tol = s.real("touch_tolerance", 1e-7, Range::positive(), "relative to the bodies' size") * size;
   r.release_tol = s.real("release_tolerance", 1e-9, Range::nonnegative(), "relative to the largest contact force");
   r.speed_scale = scene.largest_speed();
+  // The adaptive penalty (contact/adaptive_penalty.hpp): on unless the case
+  // fixes beta (a beta_factor or beta given is the one used, as the
+  // penalty-sensitivity studies need).
+  r.adapt.on = s.flag("adapt", !(s.has("beta_factor") || s.has("beta")));
+  r.adapt.max_factor = s.real("beta_max_factor", 1e3, Range{1.0, INFINITY, false, false},
+                              "largest factor on a row's beta");
+  r.adapt.tolerance = scene.penetration_tolerance;
   return r;
 }
 

@@ -12,6 +12,10 @@
 //   the bodies approach at p / beta_hat, 1e-4 of v_ref h / L: the two-pass
 //   patch test's first solve is uniform to 4e-4 with it, 3.5e-3 with 1e3
 //   (docs/decisions.md); Newton's cost barely changes (Test II: +5 %).
+// adapt (on unless the case gives beta_factor or beta): a step that ends
+// with a row deeper than run.penetration_tolerance is solved again with
+// that row's beta raised, up to beta_max_factor times
+// (contact/adaptive_penalty.hpp, docs/theory.md).
 #pragma once
 #include <string>
 #include <vector>
@@ -30,6 +34,7 @@ class PenaltyEnforcement final : public RegularizedEnforcement {
     return settle_state(v, vel);
   }
   void derived(std::vector<NamedValue>& out) const override { derived_betas("penalty", out); }
+  void columns(std::vector<NamedValue>& out) const override { adaptive_columns(out); }
 };
 
 }  // namespace rpfem

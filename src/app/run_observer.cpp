@@ -282,6 +282,7 @@ std::string RunObserver::finish(const RunOutcome& out) {
   if (!out.finished) summary_.insert_or_assign("reason", out.reason);
   summary_.insert_or_assign("total_newton_iterations", out.total_newton_iterations);
   summary_.insert_or_assign("total_step_cuts", out.total_cuts);
+  summary_.insert_or_assign("total_contact_retunes", out.retunes);
   summary_.insert_or_assign("final_stroke_mm", last_.stroke);
   summary_.insert_or_assign("final_mesh", toml::table{{"nodes", mesh_nodes_}, {"elements", mesh_elements_}});
   toml::table loads;

@@ -235,8 +235,9 @@ std::optional<double> ContactModel::limit_dt(const StepView& v, const std::vecto
 }
 
 void ContactModel::remember_start_gaps() {
+  enf_->remember_start();
   start_gaps_.clear();
-  if (!(settings_.landing_overshoot > 0)) return;
+  if (!(overshoot_tolerance() > 0)) return;
   for (const ContactRow& r : rows_) start_gaps_[{r.iface, r.key}] = r.kin.gap0;
 }
 
@@ -255,7 +256,7 @@ std::optional<double> ContactModel::overshoot() const {
   // (of the order of dt), by tau h / 2 / (-g1).
   std::optional<double> first;
   for (const ContactRow& r : rows_) {
-    const double tol = settings_.landing_overshoot * r.h, g1 = r.kin.gap0;
+    const double tol = overshoot_tolerance() * r.h, g1 = r.kin.gap0;
     if (!(g1 < -tol)) continue;
     const auto it = start_gaps_.find({r.iface, r.key});
     if (it == start_gaps_.end() || !(g1 < it->second)) continue;

@@ -50,6 +50,7 @@ class ContactModel final : public ContactFormulation {
   std::optional<double> limit_dt(const StepView& v, const std::vector<Vec2>& vel) const override;
   void remember_start_gaps() override;
   std::optional<double> overshoot() const override;
+  std::optional<std::string> retune() override { return enf_->retune(); }
   double place_on_surfaces(const StepView& v, std::vector<Vec2>& x) override;
   void end_step(const StepView& v, const std::vector<Vec2>& vel) override;
   std::any save_state() const override;
@@ -70,6 +71,11 @@ class ContactModel final : public ContactFormulation {
   // discretization's and the enforcement's.
   void columns(const StepView* v, std::vector<NamedValue>& out) const;
   double neutral_point(const StepView& v, int die) const;
+  // contact.landing_overshoot, or where it is off the depth the enforcement
+  // keeps (ContactEnforcement::kept_depth).
+  double overshoot_tolerance() const {
+    return settings_.landing_overshoot > 0 ? settings_.landing_overshoot : enf_->kept_depth();
+  }
   // Rows between bodies in the zones taken over: their gaps now become
   // their zero (offsets_), once, at the first step after a remesh.
   void take_over_rows(const StepView& v);

@@ -4,6 +4,7 @@
 // never the search or the surfaces; the hooks are the kernel's
 // (model/contact_formulation.hpp) with the rows handed over.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,19 @@ class ContactEnforcement {
   // (contact/saved_members.hpp).
   virtual std::any save_state() const = 0;
   virtual void restore_state(const std::any&) = 0;
+  // Before a step's attempts: the state a retune's re-solve starts from.
+  // After an attempt (its rows at the end configuration): whether it
+  // changed its own parameters so that the step is solved again from its
+  // start (ContactFormulation::retune), its state then put back to
+  // remember_start()'s; what changed, for the log.
+  virtual void remember_start() {}
+  virtual std::optional<std::string> retune() { return std::nullopt; }
+  // The depth, over the local element size, it keeps the rows within when
+  // it adapts to a tolerance (the adaptive penalty), 0 if it does not: a
+  // row that ends an attempt deeper, where retune() did not cure it, has
+  // the step redone shorter as under contact.landing_overshoot (that key,
+  // when set, takes precedence).
+  virtual double kept_depth() const { return 0; }
   // Its own per-step scalars: names and values in a fixed order.
   virtual void columns(std::vector<NamedValue>& out) const {}
   // Largest penetration per element size it measures itself (the end-of-

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "model/scene.hpp"
 
@@ -27,10 +28,28 @@ void RegularizedEnforcement::derived_betas(const std::string& name, std::vector<
     out.push_back({name + "." + f.name + ".element_size_mm", f.h});
     out.push_back({name + "." + f.name + ".sigma_ref_MPa", f.sigma_ref});
   }
+  if (s.adapt.on) out.push_back({name + ".beta_max_factor", s.adapt.max_factor});
+}
+
+void RegularizedEnforcement::adaptive_columns(std::vector<NamedValue>& out) const {
+  if (!rows_.settings().adapt.on) return;
+  out.push_back({"penalty_factor", rows_.adaptive().largest_factor()});
+  out.push_back({"penalty_raises", double(rows_.adaptive().raises())});
+}
+
+std::optional<std::string> RegularizedEnforcement::retune() {
+  const PenaltyRaise r = rows_.raise_penalty();
+  if (r.rows == 0) return std::nullopt;
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "penetration %.2g of the element size, above run.penetration_tolerance: solved again with the "
+                "penalty of %d row(s) raised (largest factor %.3g)",
+                r.depth, r.rows, r.largest_factor);
+  return std::string(buf);
 }
 
 RegularizedRows::RegularizedRows(const ContactDiscretization& disc, RegularizedSettings s)
-    : disc_(disc), s_(std::move(s)) {
+    : disc_(disc), s_(std::move(s)), adaptive_(s_.adapt) {
   for (const auto& f : disc.interfaces()) {
     coulomb_ = coulomb_ || f.friction.kind == FrictionLaw::Kind::Coulomb;
     smoothing_.include(f.friction);
@@ -82,7 +101,7 @@ void RegularizedRows::set_laws(const StepView& v) {
     const ContactRow& r = rows[i];
     const FrictionLaw& f = ifaces[r.iface].friction;
     RowLaw& l = laws_[i];
-    l.beta = s_.beta_hat[r.iface] * r.weight;
+    l.beta = s_.beta_hat[r.iface] * r.weight * adaptive_.factor(r);
     l.inv_dt = s_.gap_correction && v.dt > 0 ? 1.0 / v.dt : 0.0;
     l.one_sided = one_sided();
     l.kind = f.kind;
@@ -91,6 +110,20 @@ void RegularizedRows::set_laws(const StepView& v) {
     l.a = f.smoothing_speed(s_.speed_scale);
     l.k_weight = area[i].kw;
   }
+}
+
+void RegularizedRows::begin_attempts() {
+  start_state_ = state_;
+  adaptive_.begin_step();
+}
+
+PenaltyRaise RegularizedRows::raise_penalty() {
+  if (!rows_) return {};
+  const PenaltyRaise r = adaptive_.raise(*rows_);
+  // A clean re-solve: the contact state the failed attempt's solves
+  // settled is dropped.
+  if (r.rows > 0) state_ = start_state_;
+  return r;
 }
 
 RowTerm RegularizedRows::evaluate(std::size_t i, const std::vector<Vec2>& vel) const {

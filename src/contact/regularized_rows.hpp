@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact/adaptive_penalty.hpp"
 #include "contact/discretization.hpp"
 #include "contact/enforcement.hpp"
 #include "contact/row_terms.hpp"
@@ -40,6 +41,7 @@ struct RegularizedSettings {
   double touch_tol = 0;          // mm
   double release_tol = 0;        // relative to the largest contact force
   double speed_scale = 0;        // mm/s: a = a_relative * speed_scale
+  PenaltyAdaptation adapt;       // off: every row's beta is beta_hat w
 };
 
 // The default beta_hat of each interface (MPa s/mm): `factor` times
@@ -75,6 +77,13 @@ class RegularizedRows {
   void restore_state(const std::any& saved) {
     restore_members(saved, rows_, state_, active_, changed_, laws_, lambda_, merit_bound_, res_, results_, smoothing_);
   }
+  // The adaptive penalty (contact/adaptive_penalty.hpp): the contact state
+  // at a step's start is what its re-solves start from; after an attempt,
+  // the rows too deep raised (rows() at the end configuration) and, if any
+  // were, the state put back to the step's start.
+  void begin_attempts();
+  PenaltyRaise raise_penalty();
+  const AdaptivePenalty& adaptive() const { return adaptive_; }
 
  private:
   bool one_sided() const { return s_.gap_correction; }
@@ -88,6 +97,8 @@ class RegularizedRows {
   RegularizedSettings s_;
   const std::vector<ContactRow>* rows_ = nullptr;
   std::map<std::pair<int, Index>, char> state_;  // in contact, by row identity
+  std::map<std::pair<int, Index>, char> start_state_;  // state_ at the step's start
+  AdaptivePenalty adaptive_;
   std::vector<char> active_, changed_;
   std::vector<RowLaw> laws_;
   std::vector<double> lambda_, merit_bound_;
@@ -108,6 +119,12 @@ class RegularizedEnforcement : public ContactEnforcement {
     rows_.add_terms(vel, sink);
   }
   TangentKind tangent() const override { return rows_.tangent(); }
+  void remember_start() override { rows_.begin_attempts(); }
+  std::optional<std::string> retune() override;
+  double kept_depth() const override {
+    const auto& a = rows_.settings().adapt;
+    return a.on ? a.tolerance : 0.0;
+  }
   void anchor_merit(const StepView&, const std::vector<Vec2>& vel) override { rows_.anchor_merit(vel); }
   const std::vector<RowResult>& results() const override { return rows_.results(); }
   std::any save_state() const override { return save_members(rows_.save_state(), events_); }
@@ -126,8 +143,13 @@ class RegularizedEnforcement : public ContactEnforcement {
     rows_.settle(v, vel, out);
     return out;
   }
-  // beta per interface and the element size, as "<name>.<interface>.*".
+  // beta per interface and the element size, as "<name>.<interface>.*";
+  // the adaptive penalty's settings.
   void derived_betas(const std::string& name, std::vector<NamedValue>& out) const;
+  // With the adaptive penalty: its columns, penalty_factor (the largest
+  // factor on a row's beta in force) and penalty_raises (the step's
+  // re-solves).
+  void adaptive_columns(std::vector<NamedValue>& out) const;
 
   const ContactDiscretization& disc_;
   RegularizedRows rows_;

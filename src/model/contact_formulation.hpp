@@ -182,12 +182,20 @@ class ContactFormulation {
   // the stepper shortens the step to it.
   virtual std::optional<double> limit_dt(const StepView&, const std::vector<Vec2>& v) const { return std::nullopt; }
   // Landing control's correction from the step's end. Before a step's
-  // attempts: the rows' gaps now are remembered. After an attempt's end
-  // solve (its rows at the end configuration): the fraction of the attempt
-  // to redo the step with, where a row ended deeper than the treatment's
-  // tolerance allows (ContactModel::overshoot). nullopt: none did.
+  // attempts: the rows' gaps now are remembered (and the state a retune
+  // starts from, below). After an attempt's end solve (its rows at the end
+  // configuration): the fraction of the attempt to redo the step with,
+  // where a row ended deeper than the treatment's tolerance allows
+  // (ContactModel::overshoot). nullopt: none did.
   virtual void remember_start_gaps() {}
   virtual std::optional<double> overshoot() const { return std::nullopt; }
+  // After an attempt's end solve, before overshoot(): whether the
+  // treatment changed its own parameters for the step, so that the step is
+  // solved again from its start at the same length (a penalty raised on
+  // the rows that ended it deeper than run.penetration_tolerance); its
+  // state is put back to where the step started (remember_start_gaps was
+  // called there). What changed, for the log; nullopt: nothing did.
+  virtual std::optional<std::string> retune() { return std::nullopt; }
   // After the nodes moved to x (the configuration at view.time + view.dt):
   // nodes held on curved die surfaces are placed back on them (ALPID's
   // correction); returns the largest move (mm).

@@ -450,7 +450,9 @@ RunOutcome Runner::finish() {
                             " of the element size at step " + std::to_string(worst_penetration_step_) + " (stroke " +
                             sci(worst_penetration_stroke_) + " mm), above run.penetration_tolerance = " +
                             sci(scene_.penetration_tolerance) + " at " + std::to_string(penetrating_steps_) +
-                            " step(s); raise the contact penalty (formulations.penalty.beta_factor)");
+                            " step(s); raise the contact penalty (formulations.penalty.beta_factor; under "
+                            "formulations.penalty.adapt its beta_max_factor) or shorten the steps "
+                            "(stepping.stroke_increment)");
   if (distorted_steps_ > 0) {
     // A mesh this distorted integrates its elements poorly (a corner angle
     // of asin(0.1) = 5.7 degrees at the default): the fields near the
@@ -630,6 +632,19 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     // failed where the run remeshes.
     const bool poor = why.empty() && scene_.remesh.enabled && a.quality < scene_.remesh.reject_below;
     if (poor) why = "least scaled Jacobian " + sci(a.quality) + " below remesh.reject_below";
+    // The treatment changed its parameters for the step (a penalty raised
+    // where a row ended deeper than run.penetration_tolerance): solved
+    // again from the step's start, same length. The treatment bounds how
+    // often (contact/adaptive_penalty.hpp). Before the landing redo below:
+    // a raise is kept for the steps after, a shorter step is not.
+    if (why.empty()) {
+      if (const std::optional<std::string> t = contact_.retune()) {
+        ++out_.retunes;
+        discard();  // the raise itself is kept (the treatment's own, not the step's state)
+        obs_.on_retry(step, dt, *t);
+        continue;
+      }
+    }
     // A row that ended the step deeper than its enforcement saw: the step
     // redone shorter (to a landing, for a row open at the start), a few
     // times at most, not counted as a halving. A fraction below the

@@ -101,6 +101,9 @@ struct RunOutcome {
   int steps = 0;       // recorded steps after step 0
   int total_newton_iterations = 0;
   int total_cuts = 0;
+  // Steps solved again from their start with the contact treatment's
+  // parameters changed (ContactFormulation::retune).
+  int retunes = 0;
   double assembly_seconds = 0, analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;
   double residual_seconds = 0, contact_seconds = 0;  // model/step_problem.hpp's SolverWorkspace
   int pattern_builds = 0, factorizations = 0, cholesky_fallbacks = 0;

@@ -71,6 +71,31 @@ TEST(Penalty, FlatDieUpsettingMatchesExactLoadAndDirect) {
               worst_exact, worst_direct, worst_pen);
 }
 
+// The adaptive penalty (formulations.penalty.adapt) on the core in its
+// sleeve: with beta fixed at the default four steps end deeper than
+// run.penetration_tolerance (3.2e-3 of the element size, a core node
+// sliding past a sleeve node) and the run warns; adaptive, every step ends
+// within it (2.7e-4 measured), the steps solved again are counted, and the
+// run has no warning.
+TEST(Penalty, AdaptivePenaltyKeepsThePenetrationToleranceOnCoreInSleeve) {
+  const std::string fixed = run_case("core_in_sleeve", "--set formulations.penalty.adapt=false", 0, "_fixed");
+  const std::string adaptive = run_case("core_in_sleeve", "", 0, "_adaptive");
+  const auto largest = [](const std::string& dir) {
+    const History h = read_history(dir + "/history.csv");
+    const auto& p = h.at("max_penetration_rel");
+    return *std::max_element(p.begin(), p.end());
+  };
+  const double pf = largest(fixed), pa = largest(adaptive);
+  std::printf("[measured] core_in_sleeve largest penetration / element size: fixed %.3e, adaptive %.3e\n", pf, pa);
+  EXPECT_GT(pf, 1e-3);
+  EXPECT_LE(pa, 1e-3);
+  EXPECT_NE(read_text(fixed + "/summary.json").find("penetration unacceptable"), std::string::npos);
+  const std::string summary = read_text(adaptive + "/summary.json");
+  EXPECT_EQ(summary.find("penetration unacceptable"), std::string::npos);
+  EXPECT_EQ(summary.find("\"total_contact_retunes\" : 0"), std::string::npos);
+  EXPECT_NE(summary.find("\"total_contact_retunes\""), std::string::npos);
+}
+
 // Paper Test I to 30 % (cases/paper_test1_*.toml): the double action's
 // spheres mirror each other, each deforms as the single-action sphere, no
 // penetration, action equals reaction. About a minute of CPU.

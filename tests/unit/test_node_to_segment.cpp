@@ -192,18 +192,20 @@ TEST(ContactModel, RowsInContactKeepTheDriftBand) {
 
 namespace {
 
-// The cylinder's model under penalty with contact.landing_overshoot = tau,
-// its rows' gaps remembered at the die height `start` (the top nodes at
-// y = 10), then its rows with the top nodes raised by `rise` mm: what
-// overshoot() returns, and the top rows' h and start gap.
+// The cylinder's model under penalty (beta fixed, or adaptive) with
+// contact.landing_overshoot = tau, its rows' gaps remembered at the die
+// height `start` (the top nodes at y = 10), then its rows with the top
+// nodes raised by `rise` mm: what overshoot() returns, and the top rows'
+// h and start gap.
 struct Overshoot {
   std::optional<double> t;
   double h = 0, g0 = 0, g1 = 0;
 };
 
-Overshoot overshoot_after(const std::string& start, double rise, double tau) {
+Overshoot overshoot_after(const std::string& start, double rise, double tau, bool adapt = false) {
   CaseFile file(unit::write_temp("nts_overshoot_" + std::to_string(getpid()) + ".toml", die_at(start)),
-                {"run.formulation=penalty", "contact.landing_overshoot=" + std::to_string(tau)});
+                {"run.formulation=penalty", "contact.landing_overshoot=" + std::to_string(tau),
+                 std::string("formulations.penalty.adapt=") + (adapt ? "true" : "false")});
   const Scene scene = read_scene(file);
   const auto contact = make_contact(file, scene);
   const auto& model = dynamic_cast<const ContactModel&>(*contact);
@@ -248,6 +250,11 @@ TEST(ContactModel, OvershootIsTheFractionOfTheStepToRedo) {
   EXPECT_NEAR(*o.t, 0.5 * tau * o.h / 0.004, 1e-12);
   // A row that starts deeper than it ends: the enforcement pulls it back.
   EXPECT_FALSE(overshoot_after("9.997", -0.001, tau).t.has_value());  // -0.003 -> -0.002 mm
-  // The key at 0: off.
+  // The key at 0: off ...
   EXPECT_FALSE(overshoot_after("10.5", 0.6, 0.0).t.has_value());
+  // ... but under the adaptive penalty, which keeps run.penetration_tolerance
+  // (1e-3): the same fraction as the key at 1e-3.
+  o = overshoot_after("10.5", 0.502, 0.0, true);
+  ASSERT_TRUE(o.t.has_value());
+  EXPECT_NEAR(*o.t, (o.g0 + 0.5 * 1e-3 * o.h) / (o.g0 - o.g1), 1e-12);
 }
