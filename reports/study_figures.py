@@ -14,7 +14,10 @@ is in the study's table).
   reference's limit (the friction's smoothing speed against the exact
   law), log-log, per formulation, the load and monitor errors with their
   fitted orders, Newton iterations per step and wall time, the reference
-  run's as horizontal lines."""
+  run's as horizontal lines;
+- grid: a study of two numeric axes and no reference (a grid of hundreds
+  or thousands of runs), each run a cell coloured by its final load and by
+  its wall time over the two axes, stopped runs marked x."""
 import math
 import textwrap
 
@@ -310,5 +313,42 @@ def regularization_png(s):
     return png_bytes(fig)
 
 
+def axis_scale(ax, which, values):
+    """A log scale on the axis when its positive values span more than two
+    decades."""
+    vs = [v for v in values if v > 0]
+    if vs and len(vs) == len(values) and max(vs) / min(vs) > 100:
+        (ax.set_xscale if which == "x" else ax.set_yscale)("log")
+
+
+def grid_png(s):
+    """Final load and wall time of each run over the study's two axes: one
+    scatter point per run (its grid cell), a colour bar per panel."""
+    kx, ky = s["axes"][:2]
+    done = finished(s["rows"])
+    if not done:
+        return None
+    fig, axes = plt.subplots(1, 2, figsize=(10.4, 4.2), dpi=110)
+    for ax, (col, label) in zip(axes, [("final_load_kN", "final load (kN)"), ("wall_time_s", "wall time (s)")]):
+        pts = [(r[kx], r[ky], r[col]) for r in done if r[col] is not None]
+        if pts:
+            xs, ys, cs = zip(*pts)
+            sc = ax.scatter(xs, ys, c=cs, s=max(4.0, 3000.0 / len(pts)), marker="s", cmap="viridis")
+            fig.colorbar(sc, ax=ax, label=label)
+        else:
+            missing_panel(ax, "not measured in any finished run")
+        stopped = [(r[kx], r[ky]) for r in s["rows"] if r["finished"] != 1]
+        if stopped:
+            ax.plot(*zip(*stopped), "x", color="C3", markersize=5, label="did not finish (%d)" % len(stopped))
+            ax.legend(fontsize=7, loc="upper right")  # "best" searches every point: slow for thousands
+        axis_scale(ax, "x", [r[kx] for r in s["rows"]])
+        axis_scale(ax, "y", [r[ky] for r in s["rows"]])
+        ax.set(xlabel=short(kx), ylabel=short(ky))
+        ax.set_title("%s of each finished run" % label, fontsize=9)
+    fig.suptitle(textwrap.fill("%s: %s" % (s["study"], s["meta"].get("description", "")), 110), fontsize=10)
+    fig.tight_layout()
+    return png_bytes(fig)
+
+
 DRAW = {"sensitivity": sensitivity_png, "convergence": convergence_png, "pareto": pareto_png,
-        "regularization": regularization_png}
+        "regularization": regularization_png, "grid": grid_png}

@@ -70,8 +70,9 @@ def kind(s):
     axis: the errors against it per formulation, iterations and wall time),
     "pareto" (Richardson per formulation, the formulation an axis: error
     against wall time), "convergence" (Richardson along a size axis),
-    "sensitivity" (one numeric axis against a reference run), or None (only
-    the table)."""
+    "sensitivity" (one numeric axis against a reference run), "grid" (two
+    numeric axes, no reference: each run's final load and wall time over
+    them), or None (only the table)."""
     if s["meta"].get("regularization"):
         return "regularization"
     ref = s["meta"].get("reference", {}).get("kind")
@@ -80,6 +81,8 @@ def kind(s):
         return "pareto" if formulation_axis else "convergence"
     if ref == "formulation" and len(s["axes"]) == 1:
         return "sensitivity"
+    if ref in (None, "none") and len(s["axes"]) == 2 and not formulation_axis:
+        return "grid"
     return None
 
 

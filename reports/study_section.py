@@ -5,7 +5,11 @@ order and extrapolated load, the usable window, a regularization axis's
 observed orders, its errors at the default value and the reference run's
 own cost), and a table of its runs (sweep.csv's essentials; loads in kN,
 times in s; "-": not measured; a regularization study's with the orders
-between successive values and the reference run last). A
+between successive values and the reference run last). A study of more
+than ROWS_SHOWN runs gets, in place of a row per run, its axes' ranges,
+the least, median and largest value of each column over its finished
+runs, and the runs that did not finish (at most ROWS_SHOWN of them, each
+reason counted): the full table is its sweep.csv, named under it. A
 study whose table cannot be read, or whose figure the data do not allow,
 gets a note saying why."""
 import html
@@ -17,7 +21,8 @@ from study_figures import DRAW, compared, finished, group_name, richardson_group
 from study_results import kind, load_study, regularization_groups, short, size
 
 ALT = {"sensitivity": "penalty sensitivity", "convergence": "convergence", "pareto": "speed against accuracy",
-       "regularization": "regularization"}
+       "regularization": "regularization", "grid": "final load and wall time over the grid"}
+ROWS_SHOWN = 60  # a study with more runs is summarized (aggregates, stopped runs); its sweep.csv has every row
 
 
 def caption(s, k):
@@ -46,6 +51,10 @@ def caption(s, k):
         return ("Left: the relative difference of the %s from Richardson's extrapolation against the size, "
                 "log-log (dotted, below the points: the observed order's slope over the three finest sizes); right: "
                 "the %s itself (dashed: the extrapolated value)." % (measure, measure))
+    if k == "grid":
+        return ("Each finished run as a square at its two axis values (%s against %s), coloured by its final load "
+                "(left) and its wall time (right). x: runs that did not finish." % (short(s["axes"][1]),
+                                                                                   short(s["axes"][0])))
     common = ref.get("formulation")
     return ("Each run's error against its wall time, log-log: the relative difference of its %s from Richardson's "
             "extrapolation of the %s mesh sequence%s; labels: the mesh factor (1: the case's mesh). Dashed: the "
@@ -212,6 +221,13 @@ def regularization_table(s):
 
 def table(s):
     """Header and rows of the study's table; columns nobody measured left out."""
+    cols, rows = table_columns(s)
+    return [c[0] for c in cols], [[cell(r, col, spec) for _, col, spec in cols] for r in rows]
+
+
+def table_columns(s):
+    """The study table's columns (header, column, format; columns nobody
+    measured left out) and the rows they are read from."""
     ref = s["meta"].get("reference", {})
     if s["meta"].get("regularization"):
         # The reference run last, its own values (its errors are zero by definition: not shown).
@@ -219,8 +235,7 @@ def table(s):
         rows = s["rows"] + ([dict({k: None if v == -1 else v for k, v in ref_run.items()},
                                   formulation=ref_run["formulation"] + " (reference)")] if ref_run else [])
         cols = regularization_table(s)
-        cols = [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in rows)]
-        return [c[0] for c in cols], [[cell(r, col, spec) for _, col, spec in cols] for r in rows]
+        return [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in rows)], rows
     rich = ref.get("kind") == "richardson"
     cols = [("formulation", "formulation", "%s")] if any(a["key"] == "formulation"
                                                          for a in s["meta"].get("axes", [])) else []
@@ -235,21 +250,70 @@ def table(s):
     cols += [("error vs extrapolated" if rich else "load error, last stroke", "load_error_final", "%.1e"),
              ("iterations median", "iterations_median", "%g"), ("iterations max", "iterations_max", "%g"),
              ("rcond", "rcond", "%.1e"), ("wall time (s)", "wall_time_s", "%.1f"), ("reason", "reason", "%s")]
-    cols = [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in s["rows"])]
-    rows = [[cell(r, col, spec) for _, col, spec in cols] for r in s["rows"]]
-    return [c[0] for c in cols], rows
+    return [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in s["rows"])], s["rows"]
 
 
-def footnoted(header, rows):
+def footnoted(header, rows, counted=False):
     """The table with its reasons (the last column, prose) as numbered notes
-    under it, one number per distinct reason: header, rows, notes."""
+    under it, one number per distinct reason: header, rows, notes (with
+    counted, each note ends with its number of runs)."""
     if not header or header[-1] != "reason":
         return header, rows, []
-    notes = []
+    number, count = {}, {}
     for r in rows:
-        if r[-1] and r[-1] not in notes:
-            notes.append(r[-1])
-    return header[:-1] + ["note"], [r[:-1] + ["(%d)" % (notes.index(r[-1]) + 1) if r[-1] else ""] for r in rows], notes
+        if r[-1]:
+            number.setdefault(r[-1], len(number) + 1)
+            count[r[-1]] = count.get(r[-1], 0) + 1
+    notes = [x + (" (%d run%s)" % (count[x], "" if count[x] == 1 else "s") if counted else "") for x in number]
+    return header[:-1] + ["note"], [r[:-1] + ["(%d)" % number[r[-1]] if r[-1] else ""] for r in rows], notes
+
+
+def median(xs):
+    xs = sorted(xs)
+    n = len(xs)
+    return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
+
+
+def summary_tables(s):
+    """A large study's tables: (axes and aggregates: header, rows), (its
+    runs that did not finish: header, rows, notes, how many left out)."""
+    cols, rows = table_columns(s)
+    done = finished(rows)
+    agg = []
+    for k in s["axes"]:
+        vs = sorted({r[k] for r in rows if r.get(k) is not None})
+        if vs:
+            agg.append(["%s (axis, %d values)" % (short(k), len(vs)), "%d" % len(rows), "%g" % vs[0],
+                        "%g" % median(vs), "%g" % vs[-1]])
+    for head, col, spec in cols:
+        if spec in (None, "%s") or col in s["axes"]:
+            continue
+        vs = [r[col] for r in done if r.get(col) is not None and not (col.startswith("iterations") and not r.get("steps"))]
+        if vs:
+            agg.append([head, "%d" % len(vs), spec % min(vs), spec % median(vs), spec % max(vs)])
+    # Every stopped run's reason numbered and counted, shown in the table or not.
+    stopped = [[cell(r, col, spec) for _, col, spec in cols] for r in rows if r.get("finished") != 1]
+    header, stopped, notes = footnoted([c[0] for c in cols], stopped, counted=True)
+    return ((["quantity", "runs", "least", "median", "largest"], agg),
+            (header, stopped[:ROWS_SHOWN], notes, max(0, len(stopped) - ROWS_SHOWN)))
+
+
+def summary_block(s, entry):
+    """A large study's tables in place of its row per run: (HTML, Markdown)."""
+    (ah, arows), (sh, srows, notes, more) = summary_tables(s)
+    done = len(finished(s["rows"]))
+    intro = ("%d runs, %d finished, %d did not. Each row: a column of the table over the finished runs (the axes over "
+             "all runs); the table of every run is %s (%d rows)." % (len(s["rows"]), done, len(s["rows"]) - done,
+                                                                  entry["table"], len(s["rows"])))
+    h, m = "<p>%s</p>" % html.escape(intro) + html_table(ah, arows), "%s\n\n" % intro + md_table(ah, arows) + "\n"
+    if srows:
+        line = "The runs that did not finish%s:" % (" (the first %d; %d more in the table)" % (len(srows), more)
+                                                    if more else "")
+        h += "<p>%s</p>" % html.escape(line) + html_table(sh, srows)
+        m += "%s\n\n" % line + md_table(sh, srows) + "\n"
+        h += "<ol class='footnotes'>%s</ol>" % "".join("<li>%s</li>" % html.escape(x) for x in notes) if notes else ""
+        m += "".join("%d. %s\n" % (i + 1, x) for i, x in enumerate(notes)) + "\n" if notes else ""
+    return h, m
 
 
 def study_block(out, entry):
@@ -274,6 +338,9 @@ def study_block(out, entry):
     lines = findings(s)
     h += "".join("<p>%s</p>" % html.escape(x) for x in lines)
     m += "".join("%s\n\n" % x for x in lines)
+    if len(s["rows"]) > ROWS_SHOWN:
+        sh, sm = summary_block(s, entry)
+        return h + sh + "<p>Table: %s</p>" % html.escape(entry["table"]), m + sm + "Table: %s\n\n" % entry["table"]
     header, rows = table(s)
     header, rows, notes = footnoted(header, rows)
     foot_h = "<ol class='footnotes'>%s</ol>" % "".join("<li>%s</li>" % html.escape(x) for x in notes) if notes else ""

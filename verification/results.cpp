@@ -176,6 +176,21 @@ std::vector<double> read_h5_dataset(const std::string& h5_path, const std::strin
   return out;
 }
 
+std::string read_h5_text_attribute(const std::string& h5_path, const std::string& object, const std::string& name) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  H5File f(h5_path);
+  const hid_t a = H5Aopen_by_name(f.id, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+  if (a < 0) throw std::runtime_error(h5_path + ": no attribute " + name + " on " + object);
+  const hid_t t = H5Aget_type(a);
+  std::string out(H5Tget_size(t), '\0');
+  const herr_t st = H5Aread(a, t, out.data());
+  H5Tclose(t);
+  H5Aclose(a);
+  if (st < 0) throw std::runtime_error(h5_path + ": cannot read attribute " + name + " on " + object);
+  out.resize(std::min(out.size(), out.find('\0')));
+  return out;
+}
+
 std::vector<int> read_h5_steps(const std::string& h5_path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   H5File f(h5_path);

@@ -52,6 +52,9 @@ std::vector<std::string> summary_strings(const std::string& run_dir, const std::
 // A dataset of result.h5 as doubles (row-major), with its shape.
 std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset,
                                     std::vector<unsigned long long>* shape = nullptr);
+// A fixed-length string attribute of an object of an HDF5 file (result.h5's
+// /metadata json, sweep.h5's /table metadata and columns).
+std::string read_h5_text_attribute(const std::string& h5_path, const std::string& object, const std::string& name);
 // Step numbers recorded in result.h5 (groups under /steps).
 std::vector<int> read_h5_steps(const std::string& h5_path);
 

@@ -69,6 +69,11 @@ void engine_options(CLI::App* cmd, rpfem::EngineOptions& e) {
   cmd->add_option("--sbatch-arg", e.slurm.extra, "slurm: one more sbatch argument (repeatable)");
   cmd->add_option("--array-limit", e.slurm.concurrency, "slurm: at most N tasks at once (the array's %N; 0: no limit)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--runs-per-task", e.slurm.runs_per_task,
+                  "slurm: each array task runs N runs one after another (each in its own folder with its own exit "
+                  "code; --time is then the task's limit for all N)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 }
 
 // The options of the commands that run many cases on a worker pool.

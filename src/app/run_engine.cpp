@@ -53,22 +53,31 @@ int max_array_size() {
   return n > 1 ? n : 1001;
 }
 
-// The task's script: line OFFSET + id + 1 of commands.txt into the folder
-// on the same line of dirs.txt, its exit code and wall time after.
-std::string array_script(const std::string& slurm_dir) {
+// The task's script: runs FIRST .. FIRST + PER - 1 (lines of commands.txt
+// from OFFSET + id * PER + 1, as many as there are) one after another, each
+// into the folder on the same line of dirs.txt, its exit code and wall time
+// into that folder's exit_code as it ends. A run that fails does not stop
+// the task's later runs; the task exits with the first nonzero exit code.
+std::string array_script(const std::string& slurm_dir, int runs_per_task) {
   const std::string q = shell_quote(slurm_dir);
   return "#!/bin/bash\n"
          "# One task of an rpfem job array (src/app/run_engine.cpp).\n"
-         "i=$((SLURM_ARRAY_TASK_ID + RPFEM_TASK_OFFSET + 1))\n"
-         "dir=$(sed -n \"${i}p\" " + q + "/dirs.txt)\n"
-         "cmd=$(sed -n \"${i}p\" " + q + "/commands.txt)\n"
-         "mkdir -p \"$dir\" || exit 90\n"
-         "t0=$(date +%s.%N)\n"
-         "bash -c \"$cmd\" > \"$dir/run.log\" 2>&1\n"
-         "rc=$?\n"
-         "t1=$(date +%s.%N)\n"
-         "echo \"$rc $(awk \"BEGIN { print $t1 - $t0 }\")\" > \"$dir/exit_code\"\n"
-         "exit $rc\n";
+         "per=" + std::to_string(runs_per_task) + "\n"
+         "first=$((RPFEM_TASK_OFFSET + SLURM_ARRAY_TASK_ID * per + 1))\n"
+         "total=$(wc -l < " + q + "/commands.txt)\n"
+         "status=0\n"
+         "for ((i = first; i < first + per && i <= total; ++i)); do\n"
+         "  dir=$(sed -n \"${i}p\" " + q + "/dirs.txt)\n"
+         "  cmd=$(sed -n \"${i}p\" " + q + "/commands.txt)\n"
+         "  mkdir -p \"$dir\" || { [ $status -eq 0 ] && status=90; continue; }\n"
+         "  t0=$(date +%s.%N)\n"
+         "  bash -c \"$cmd\" > \"$dir/run.log\" 2>&1\n"
+         "  rc=$?\n"
+         "  t1=$(date +%s.%N)\n"
+         "  echo \"$rc $(awk \"BEGIN { print $t1 - $t0 }\")\" > \"$dir/exit_code\"\n"
+         "  [ $status -eq 0 ] && status=$rc\n"
+         "done\n"
+         "exit $status\n";
 }
 
 struct Task {
@@ -91,6 +100,7 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
   // Kept from an earlier run of the same command (--resume): rc set.
   std::vector<std::size_t> todo;
   std::vector<RunClock> clocks(runs.size());
+  const int per = std::max(1, o.runs_per_task);
   int done = 0;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     if (runs[i].rc == 0) {
@@ -108,8 +118,9 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
       cmds << run_command(r, self) << "\n";
       dirs << r.dir << "\n";
       fs::remove(r.dir + "/exit_code");
+      fs::remove(r.dir + "/run.log");  // a bundled run has started when its run.log appears
     }
-    sh << array_script(slurm_dir);
+    sh << array_script(slurm_dir, per);
     if (!cmds || !dirs || !sh) throw InputError("--engine slurm: cannot write to " + slurm_dir);
   }
   if (todo.empty()) {
@@ -137,16 +148,18 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
   if (!quiet)
     std::printf("%zu runs on Slurm: %zu submitted, %d finished before (%s)\n", runs.size(), todo.size(), done,
                 slurm_dir.c_str());
-  // One array per MaxArraySize tasks.
+  // One array per MaxArraySize tasks, each task PER runs (the last one
+  // fewer): run todo[k] is task k / PER of the whole.
   std::vector<Task> tasks;
   std::vector<std::string> jobs;
-  const int chunk = max_array_size();
-  for (std::size_t first = 0; first < todo.size(); first += chunk) {
-    const std::size_t n = std::min<std::size_t>(chunk, todo.size() - first);
+  const std::size_t task_count = (todo.size() + per - 1) / per;
+  const std::size_t chunk = max_array_size();
+  for (std::size_t first = 0; first < task_count; first += chunk) {
+    const std::size_t n = std::min(chunk, task_count - first);
     std::string cmd = "sbatch --parsable -J rpfem --array=0-" + std::to_string(n - 1);
     if (o.concurrency > 0) cmd += "%" + std::to_string(o.concurrency);
     cmd += " -o " + shell_quote(slurm_dir + "/task-%A_%a.log");
-    cmd += " --export=ALL,RPFEM_TASK_OFFSET=" + std::to_string(first);
+    cmd += " --export=ALL,RPFEM_TASK_OFFSET=" + std::to_string(first * per);
     if (!o.partition.empty()) cmd += " -p " + shell_quote(o.partition);
     if (!o.time_limit.empty()) cmd += " -t " + shell_quote(o.time_limit);
     if (!o.account.empty()) cmd += " -A " + shell_quote(o.account);
@@ -157,8 +170,11 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
     if (rc != 0) throw InputError("--engine slurm: sbatch refused the array: " + id);
     id = id.substr(0, id.find_first_of(";\n"));
     jobs.push_back(id);
-    for (std::size_t t = 0; t < n; ++t) tasks.push_back({todo[first + t], id + "_" + std::to_string(t)});
-    if (!quiet) std::printf("  submitted job array %s: %zu tasks\n", id.c_str(), n);
+    for (std::size_t k = first * per; k < std::min(todo.size(), (first + n) * per); ++k)
+      tasks.push_back({todo[k], id + "_" + std::to_string(k / per - first)});
+    if (!quiet)
+      std::printf("  submitted job array %s: %zu tasks%s\n", id.c_str(), n,
+                  per > 1 ? (" of up to " + std::to_string(per) + " runs").c_str() : "");
   }
   std::string job_list;
   for (const auto& j : jobs) job_list += (job_list.empty() ? "" : ",") + j;
@@ -192,7 +208,8 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
       const auto it = state.find(t.job);
       const bool has_code = fs::exists(r.dir + "/exit_code");
       if (it != state.end() && !has_code) {
-        const bool queued = it->second == "PD";
+        // A bundled run waits in a running task until its run.log appears.
+        const bool queued = it->second == "PD" || (per > 1 && !fs::exists(r.dir + "/run.log"));
         (queued ? pending : running)++;
         if (!queued && !clocks[t.run].running) clocks[t.run].running = true, clocks[t.run].start = Clock::now();
         continue;

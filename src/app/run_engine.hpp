@@ -12,7 +12,10 @@
 // stroke and iterations from its history.csv).
 // Before the arrays, a one-task `srun` writes a file into WORK/slurm from a
 // compute node: a folder the nodes do not share is bad input, said so.
-// Each task writes its run's exit code to DIR/exit_code; a task that ends
+// With --runs-per-task N each array task runs N runs one after another
+// (each in its own folder, with its own exit code): one task's start-up and
+// scheduling spread over N runs (docs/cluster.md has the measurements).
+// Each task writes each run's exit code to DIR/exit_code; a task that ends
 // without one (cancelled, out of time, its node lost, or a folder the node
 // cannot write) is reported with its Slurm state and exit code, appended to
 // DIR/run.log. Ctrl-C (or SIGTERM) cancels the arrays (scancel) and exits
@@ -33,7 +36,8 @@ namespace rpfem {
 struct SlurmOptions {
   std::string partition, time_limit, account, memory;  // sbatch -p, -t, -A, --mem (empty: the cluster's default)
   std::vector<std::string> extra;                      // more sbatch arguments, one word each
-  int concurrency = 0;  // the array's %N: at most N tasks at once (0: no limit)
+  int concurrency = 0;    // the array's %N: at most N tasks at once (0: no limit)
+  int runs_per_task = 1;  // --runs-per-task: each array task runs this many runs one after another
   double poll_seconds = 1.0;
 };
 

@@ -209,13 +209,14 @@ ResultWriter::ResultWriter(const std::string& dir, const Mesh& mesh, const std::
   const std::string partial = w.path(".partial");
   const H access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
   use_fixed_cache(access.id);
+  allow_large_attributes(access.id);  // /metadata's JSON grows with the run's events
   for (int i = 0; i < 2; ++i) {
     const std::string name = i == 0 ? partial : w.path(".spare");
     w.files[i] = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id);
     if (w.files[i] < 0) throw std::runtime_error("cannot create " + name);
     const XdmfMesh m = w.write_mesh(w.files[i], "/mesh", mesh);
     if (i == 0) w.meshes.push_back(m);
-    H md = group(w.files[i], "/metadata");
+    H md(create_group_for_large_attributes(w.files[i], "/metadata"), H5Gclose, "/metadata");
     set_attr_string(md.id, "json", metadata_json);
     group(w.files[i], "/steps");
     check(H5Fflush(w.files[i], H5F_SCOPE_GLOBAL), "flush");

@@ -55,8 +55,12 @@ void write_table_csv(const std::string& path, const Table& t) {
 
 void write_table_h5(const std::string& path, const Table& t, const std::string& metadata_json) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  H file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + path);
-  H g(H5Gcreate2(file.id, "/table", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "/table");
+  // /table's attributes (the metadata JSON, the column list) grow with the
+  // study: dense attribute storage (io/hdf5_handles.hpp), no size bound.
+  H access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
+  allow_large_attributes(access.id);
+  H file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id), H5Fclose, "create " + path);
+  H g(create_group_for_large_attributes(file.id, "/table"), H5Gclose, "/table");
   std::string order;
   for (const auto& name : t.columns) {
     order += (order.empty() ? "" : ",") + name;

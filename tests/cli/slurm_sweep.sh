@@ -17,6 +17,7 @@ tmp=$(mktemp -d)
 export RPFEM_SLURM_MAX_ARRAY_SIZE=5  # the 9-run grid as two arrays
 . "$(dirname "$0")/lib/slurm_cluster.bash"
 . "$(dirname "$0")/lib/check.bash"
+. "$(dirname "$0")/lib/same_table.bash"
 cat > "$tmp/study.toml" <<TOML
 [study]
 description = "upsetting, penalty beta by mesh"
@@ -60,18 +61,6 @@ check "slurm sweep exits 0" '[ $rc -eq 0 ]'
 check "nine tasks submitted" 'grep -q "9 runs on Slurm: 9 submitted, 0 finished before" "$tmp/s1.log"'
 check "as two arrays (MaxArraySize 5)" '[ "$(grep -c "submitted job array .*: [54] tasks" "$tmp/s1.log")" -eq 2 ]'
 check "commands.txt holds the runs" '[ "$(grep -c " run " "$tmp/slurm_out/slurm/commands.txt")" -eq 9 ]'
-same_table() {
-  /usr/bin/python3 - "$1" "$2" <<'PY'
-import csv, sys
-a, b = (list(csv.DictReader(open(p))) for p in sys.argv[1:3])
-assert len(a) == len(b) > 0, (len(a), len(b))
-for ra, rb in zip(a, b):
-    for k in ra:
-        if k.endswith("_s") or "second" in k:  # wall times
-            continue
-        assert ra[k] == rb[k], (k, ra[k], rb[k])
-PY
-}
 check "slurm and local tables agree in every result column" 'same_table "$tmp/local/sweep.csv" "$tmp/slurm_out/sweep.csv"'
 echo "measured: local $(awk "BEGIN { print $t1 - $t0 }") s, slurm $(awk "BEGIN { print $t2 - $t1 }") s for 9 runs"
 # Again on the same folder with --resume: nothing to submit; with one run's

@@ -91,6 +91,22 @@ TEST(ResultWriter, WritesStepsAndRefusesNaN) {
   H5Fclose(file);
 }
 
+// result.h5's /metadata json grows with a run's events and warnings: written
+// at 200 kB and rewritten at 300 kB (past the 64 kB an attribute in its
+// object's header can hold), each read back whole.
+TEST(ResultWriter, MetadataBeyond64kBIsWrittenAndRewritten) {
+  const std::string dir = (std::filesystem::temp_directory_path() / "rpfem_writer_large_metadata").string();
+  std::filesystem::remove_all(dir);
+  const Mesh mesh = make_rectangle("b", {0, 0, 2, 1, 2, 1});
+  const auto json = [](std::size_t n) { return "{\"notes\":\"" + std::string(n, 'x') + "\"}"; };
+  {
+    ResultWriter w(dir, mesh, json(200000));
+    EXPECT_EQ(read_h5_text_attribute(dir + "/result.h5", "/metadata", "json"), json(200000));
+    w.update_metadata(json(300000));
+  }
+  EXPECT_EQ(read_h5_text_attribute(dir + "/result.h5", "/metadata", "json"), json(300000));
+}
+
 TEST(HistoryWriter, RowsAndValidation) {
   const std::string p = (std::filesystem::temp_directory_path() / "rpfem_history_test.csv").string();
   HistoryWriter h(p, {"step", "load"});

@@ -183,3 +183,30 @@ TEST(TableWriter, CsvAndHdf5HoldTheSameRows) {
   ASSERT_EQ(beta.size(), 2u);
   EXPECT_DOUBLE_EQ(beta[1], 1e12);
 }
+
+// A study's metadata JSON grows with its runs (every run's overrides): 500
+// runs made it larger than the 64 kB an attribute in its object's header
+// can hold. Written at 1 MB and read back whole, beside a column list
+// larger than 64 kB.
+TEST(TableWriter, MetadataAndColumnsBeyond64kBAreWrittenAndReadBack) {
+  Table t;
+  std::string order;
+  for (int c = 0; c < 3000; ++c) {
+    t.columns.push_back("a_long_column_name_of_thirty_" + std::to_string(c));
+    order += (c ? "," : "") + t.columns.back();
+  }
+  std::map<std::string, double> row;
+  for (const auto& c : t.columns) row[c] = 1.0;
+  t.add_row(row, {});
+  std::string json = "{\"runs\": [";
+  for (int r = 0; json.size() < (1u << 20); ++r) json += (r ? ", " : "") + std::string("{\"run\": ") + std::to_string(r) + "}";
+  json += "]}";
+  ASSERT_GT(order.size(), 65536u);
+  const auto dir = std::filesystem::temp_directory_path() / "rpfem_table_large_test";
+  std::filesystem::create_directories(dir);
+  const std::string h5 = (dir / "t.h5").string();
+  write_table_h5(h5, t, json);
+  EXPECT_EQ(read_h5_text_attribute(h5, "/table", "metadata"), json);
+  EXPECT_EQ(read_h5_text_attribute(h5, "/table", "columns"), order);
+  EXPECT_EQ(read_h5_dataset(h5, "/table/" + t.columns.back()).size(), 1u);
+}
