@@ -45,11 +45,11 @@ class ContactEnforcement {
   // (contact/saved_members.hpp).
   virtual std::any save_state() const = 0;
   virtual void restore_state(const std::any&) = 0;
-  // Before a step's attempts: the state a retune's re-solve starts from.
-  // After an attempt (its rows at the end configuration): whether it
-  // changed its own parameters so that the step is solved again from its
-  // start (ContactFormulation::retune), its state then put back to
-  // remember_start()'s; what changed, for the log.
+  // Before a step's attempts: a new step begins. After an attempt (its
+  // rows at the end configuration): whether it changed its own parameters
+  // so that the step is solved again from its start
+  // (ContactFormulation::retune; the stepper puts the state saved by
+  // save_state back first); what changed, for the log.
   virtual void remember_start() {}
   virtual std::optional<std::string> retune() { return std::nullopt; }
   // The depth, over the local element size, it keeps the rows within when

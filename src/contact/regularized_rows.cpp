@@ -112,18 +112,11 @@ void RegularizedRows::set_laws(const StepView& v) {
   }
 }
 
-void RegularizedRows::begin_attempts() {
-  start_state_ = state_;
-  adaptive_.begin_step();
-}
+void RegularizedRows::begin_attempts() { adaptive_.begin_step(); }
 
 PenaltyRaise RegularizedRows::raise_penalty() {
   if (!rows_) return {};
-  const PenaltyRaise r = adaptive_.raise(*rows_);
-  // A clean re-solve: the contact state the failed attempt's solves
-  // settled is dropped.
-  if (r.rows > 0) state_ = start_state_;
-  return r;
+  return adaptive_.raise(*rows_);
 }
 
 RowTerm RegularizedRows::evaluate(std::size_t i, const std::vector<Vec2>& vel) const {

@@ -77,10 +77,10 @@ class RegularizedRows {
   void restore_state(const std::any& saved) {
     restore_members(saved, rows_, state_, active_, changed_, laws_, lambda_, merit_bound_, res_, results_, smoothing_);
   }
-  // The adaptive penalty (contact/adaptive_penalty.hpp): the contact state
-  // at a step's start is what its re-solves start from; after an attempt,
-  // the rows too deep raised (rows() at the end configuration) and, if any
-  // were, the state put back to the step's start.
+  // The adaptive penalty (contact/adaptive_penalty.hpp): a step's count of
+  // raises begun; after an attempt, the rows too deep raised (rows() at
+  // the end configuration). The re-solve's contact state is the step's
+  // start, restored by the stepper (save_state).
   void begin_attempts();
   PenaltyRaise raise_penalty();
   const AdaptivePenalty& adaptive() const { return adaptive_; }
@@ -97,7 +97,6 @@ class RegularizedRows {
   RegularizedSettings s_;
   const std::vector<ContactRow>* rows_ = nullptr;
   std::map<std::pair<int, Index>, char> state_;  // in contact, by row identity
-  std::map<std::pair<int, Index>, char> start_state_;  // state_ at the step's start
   AdaptivePenalty adaptive_;
   std::vector<char> active_, changed_;
   std::vector<RowLaw> laws_;
