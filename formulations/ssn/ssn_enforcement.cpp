@@ -38,10 +38,20 @@ SsnEnforcement::SsnEnforcement(const Scene& scene, CaseSection settings, const C
 void SsnEnforcement::begin_step(const StepView& v, const std::vector<ContactRow>& rows) {
   rows_ = &rows;
   state_.assign(rows.size(), {});
+  bool prior = false;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto it = latest_.find({rows[i].iface, rows[i].key});
-    if (it != latest_.end()) state_[i] = it->second;
+    if (it != latest_.end()) {
+      state_[i] = it->second;
+    } else if (const auto& p = rows[i].prior; p && p->normal > 0) {
+      // After a remesh: the forces the old mesh carried there.
+      SsnRowState& st = state_[i];
+      st.active = true, st.stick = p->stick;
+      st.lambda_n = p->normal, st.lambda_t = p->friction;
+      prior = true;
+    }
   }
+  if (prior) solver_.hold_starting_sets();
   // c_j (ssn_enforcement.hpp); a row of no area (on the axis) takes a
   // hundredth of its interface's mean.
   const auto& ifaces = disc_.interfaces();
@@ -102,7 +112,14 @@ void SsnEnforcement::measure(const StepView& v) {
   const auto& rows = *rows_;
   // The largest over the step's solves (the midpoint scheme's half step
   // and its end).
-  if (v.step != measured_step_) primal_ = complementarity_ = friction_ = stick_slip_ = 0, measured_step_ = v.step;
+  if (v.step != measured_step_) {
+    primal_ = complementarity_ = friction_ = stick_slip_ = 0, measured_step_ = v.step;
+    step_stats_ = {};
+  }
+  const SsnSolveStats& solve = solver_.stats();
+  step_stats_.iterations += solve.iterations;
+  step_stats_.set_changes += solve.set_changes;
+  step_stats_.condensed += solve.condensed;
   stick_ = slip_ = 0;
   double total = 0;
   for (const SsnRowState& s : state_) total += std::max(s.lambda_n, 0.0);
@@ -138,7 +155,7 @@ void SsnEnforcement::measure(const StepView& v) {
 }
 
 void SsnEnforcement::columns(std::vector<NamedValue>& out) const {
-  const SsnSolveStats& s = solver_.stats();
+  const SsnSolveStats& s = step_stats_;
   out.push_back({"ssn_iterations", double(s.iterations)});
   out.push_back({"ssn_set_changes", double(s.set_changes)});
   out.push_back({"ssn_condensed", double(s.condensed)});

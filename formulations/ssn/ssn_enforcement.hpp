@@ -52,11 +52,11 @@ class SsnEnforcement final : public ContactEnforcement {
   void derived(std::vector<NamedValue>& out) const override;
   std::any save_state() const override {
     return save_members(rows_, state_, c_, results_, latest_, primal_, complementarity_, friction_, stick_slip_,
-                        measured_step_, stick_, slip_);
+                        measured_step_, stick_, slip_, step_stats_);
   }
   void restore_state(const std::any& saved) override {
     restore_members(saved, rows_, state_, c_, results_, latest_, primal_, complementarity_, friction_, stick_slip_,
-                    measured_step_, stick_, slip_);
+                    measured_step_, stick_, slip_, step_stats_);
   }
 
  private:
@@ -82,6 +82,10 @@ class SsnEnforcement final : public ContactEnforcement {
   double primal_ = 0, complementarity_ = 0, friction_ = 0, stick_slip_ = 0;
   int measured_step_ = -1;
   int stick_ = 0, slip_ = 0;
+  // The solver's statistics summed over the step's solves (the midpoint
+  // scheme's half step and its end; not over attempts not kept, whose
+  // state restore_state undoes).
+  SsnSolveStats step_stats_;
 };
 
 }  // namespace rpfem

@@ -472,6 +472,10 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     if (x.ln[j] > 0 && tt > 0) x.lt[j] = ft / tt;
   }
   rows(v, x, nullptr, true);
+  if (hold_start_) {
+    for (std::size_t j = 0; j < m; ++j) held_[j] = x.ncp[j], held_[j]->grazing = false;
+    hold_start_ = false;
+  }
   double last_full = -1;  // |du| of the last full consistent step (-1: none)
   for (int iter = 1;; ++iter) {
     if (iter > ns.max_iterations) {
@@ -591,12 +595,24 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
         if (!held_[j]) continue;
         const bool holds = held_[j]->grazing ? grazing_holds(x, j) : free_meets || free.sets[j] == set_of(*held_[j]);
         if (holds) continue;
+        // A grazing row that came back to the jump after kMaxRehold outer
+        // steps has no solution on any branch (pressing at the bound it
+        // lifts off, free it penetrates, grazing it asks for more friction
+        // than the bound or friction along its slip: a rim row of the
+        // friction factor law, whose bound m k w does not vanish with the
+        // pressure). It stays grazing, the least departure from the law at
+        // one row; the enforcement reports its friction against the bound
+        // (kkt_friction) and the run warns.
+        if (held_[j]->grazing && reholds_[j] >= kMaxRehold) continue;
         ++released;
         if (held_[j]->grazing && std::abs(x.lt[j]) > x.ncp[j].g) {
           // Grazing asks for more friction than the bound: the row presses
-          // and slips at the bound, against the force equilibrium asked for.
+          // and slips at the bound, the force opposing its slip (the law),
+          // or, at no slip, along the force equilibrium asked for.
           held_[j]->grazing = held_[j]->stick = false;
-          held_[j]->sign = x.lt[j] > 0 ? 1.0 : -1.0;
+          const double slip = x.g[j];
+          const bool slips = std::abs(slip) > kRowSlip * s_.speed_scale;
+          held_[j]->sign = slips ? (slip > 0 ? -1.0 : 1.0) : (x.lt[j] > 0 ? 1.0 : -1.0);
           continue;
         }
         // Held again on its own branch at this solution, while that

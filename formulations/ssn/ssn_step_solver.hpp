@@ -98,6 +98,12 @@ class SsnStepSolver final : public StepSolver {
                 Frictions frictions) {
     rows_ = rows, c_ = c, state_ = state, frictions_ = std::move(frictions);
   }
+  // The next solve holds every row on the set its starting forces give
+  // until it converges on them, then releases the rows whose own set
+  // differs, as it does rows that cycle: the first solve after a remesh,
+  // its forces taken over from the old mesh (ContactRow::prior), where a
+  // free start changed sets by the dozen per iteration and diverged.
+  void hold_starting_sets() { hold_start_ = true; }
   SolveOutcome solve(const StepView& v, StepProblem& problem, Vec& u) override;
   const SsnSolveStats& stats() const { return stats_; }
   // The whole residual F and its generalized Jacobian (consistent K) at
@@ -173,6 +179,7 @@ class SsnStepSolver final : public StepSolver {
   std::vector<Reduced> red_;
   std::vector<RowFriction> friction_;  // per enforcement row
   std::vector<char> active_rows_;      // per enforcement row, for frictions_
+  bool hold_start_ = false;  // hold_starting_sets()
   // Per row of the solve: its set changes, and the branch it is held on
   // after kHoldAfter of them (ssn_step_solver.cpp).
   std::vector<int> flips_, normal_flips_, reholds_;

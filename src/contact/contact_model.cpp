@@ -82,7 +82,7 @@ ContactInfo ContactModel::info() const {
 
 void ContactModel::begin_step(const StepView& v) {
   disc_->rows(v, rows_, events_);
-  if (!taken_.segments.empty()) take_over_rows(v);
+  if (!taken_.segments.empty() || !taken_.tractions.empty()) take_over_rows(v);
   for (ContactRow& r : rows_) {
     const auto it = offsets_.find({r.iface, r.key});
     if (it == offsets_.end()) continue;
@@ -143,6 +143,26 @@ void ContactModel::take_over_rows(const StepView& v) {
     events_.push_back("contact taken over on " + ifaces[i].name + ": " + std::to_string(t.rows) +
                       " rows start in contact, their gaps (" + std::to_string(t.lo) + " to " + std::to_string(t.hi) +
                       " mm) held as their zero");
+  // The forces: each row touching now (within the take-over reach, or
+  // taken over above) starts from the traction of the old row nearest its
+  // slave node, within one element size of it.
+  for (ContactRow& r : rows_) {
+    const auto samples = taken_.tractions.find(ifaces[r.iface].name);
+    if (samples == taken_.tractions.end()) continue;
+    const bool held = offsets_.count({r.iface, r.key}) > 0;
+    if (!held && !(std::abs(r.nearest()) <= kTakeOverReach * r.h)) continue;
+    const Vec2& p = (*v.x)[r.kin.nodes[0]];
+    const ContactZones::Traction* best = nullptr;
+    double d = r.h;
+    for (const auto& t : samples->second) {
+      const double dt = (t.at - p).norm();
+      if (dt <= d) d = dt, best = &t;
+    }
+    if (!best) continue;
+    const Vec2 tangent(-r.kin.n(1), r.kin.n(0));
+    r.prior = ContactRow::Prior{best->normal * r.weight, best->friction * r.weight * best->tangent.dot(tangent),
+                                best->stick};
+  }
   taken_ = {};
 }
 
@@ -181,6 +201,13 @@ ContactZones ContactModel::contact_zones(const std::vector<Vec2>& x) const {
     const Index n = rows_[i].kin.nodes[0];
     on[rows_[i].iface].insert(n);
     sides[rows_[i].iface].insert(scene_.mesh.node_body[n] == f.bodies[0] ? 0 : 1);
+  }
+  for (std::size_t i = 0; i < rows_.size() && i < res.size(); ++i) {
+    const ContactRow& r = rows_[i];
+    if (!res[i].in_contact || !(r.weight > 0)) continue;
+    out.tractions[ifaces[r.iface].name].push_back({x[r.kin.nodes[0]], Vec2(-r.kin.n(1), r.kin.n(0)),
+                                                   res[i].normal / r.weight, res[i].friction / r.weight,
+                                                   res[i].stick > 0});
   }
   for (const auto& [iface, nodes] : on) {
     if (sides[iface].size() == 1) out.slave_side[ifaces[iface].name] = *sides[iface].begin();

@@ -66,6 +66,16 @@ struct ContactRow {
   // interface as it stood. Its true gap is kin.gap0 + gap_offset.
   double gap_offset = 0;
   double true_gap() const { return kin.gap0 + gap_offset; }
+  // A solve's first rows after a remesh: the forces the old mesh's row
+  // nearest to this one carried (ContactZones::tractions times this row's
+  // weight), for an enforcement whose unknowns they are (a warm start,
+  // the multipliers' counterpart of the velocities carried over). Unset
+  // otherwise.
+  struct Prior {
+    double normal = 0, friction = 0;  // N, friction along this row's t
+    bool stick = false;
+  };
+  std::optional<Prior> prior;
 };
 
 // Contact area and sticking bound of a row, given which rows are in

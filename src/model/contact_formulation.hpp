@@ -147,6 +147,18 @@ struct ContactZones {
   // Per interface whose rows in contact were all one side's nodes: that
   // side (0: the pair's body, 1: its `with` body), the slave of one pass.
   std::map<std::string, int> slave_side;
+  // Per interface (dies too): the forces of the rows in contact, per unit
+  // of their lumped area, where their slave nodes stood. A treatment that
+  // solves the forces as unknowns starts the new mesh's rows from them
+  // (ContactRow::prior), as the velocities carried over start Newton.
+  struct Traction {
+    Vec2 at = Vec2::Zero();       // mm
+    Vec2 tangent = Vec2::Zero();  // the row's t = (-n_y, n_x)
+    double normal = 0;            // MPa, > 0 pressing
+    double friction = 0;          // MPa, on the slave along `tangent`
+    bool stick = false;
+  };
+  std::map<std::string, std::vector<Traction>> tractions;
 };
 
 class ContactFormulation {

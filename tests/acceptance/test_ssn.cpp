@@ -57,7 +57,7 @@ void PrintTo(const SsnScene& s, std::ostream* os) { *os << s.name << " " << s.la
 class SsnConditions : public testing::TestWithParam<SsnScene> {};
 
 //~ feature = "ssn"
-//~ scene = "paper_test2_die, paper_test2_virtual_rigid, ring m0.1 and mu0.1, upsetting mu0.1, core_in_sleeve, Test I double action to 3 mm (node to segment), each under ssn"
+//~ scene = "paper_test2_die, paper_test2_virtual_rigid, ring m0.1 and mu0.1, upsetting mu0.1, core_in_sleeve, the remeshed ring at m = 1 (24 x 16, to 60 %), Test I double action to 3 mm (node to segment), each under ssn"
 //~ source = "Hueber, Stadler and Wohlmuth 2008 (the conditions as complementarity functions); paper eq. 6 and 10"
 //~ uses = ["expect_conditions"]
 //~ [[check]]
@@ -80,6 +80,7 @@ INSTANTIATE_TEST_SUITE_P(
                     SsnScene{"RingMu01", "ring_compression", "ssn", "--variant mu0.1"},
                     SsnScene{"UpsettingMu01", "upsetting_friction", "ssn", "--variant mu0.1"},
                     SsnScene{"CoreInSleeve", "core_in_sleeve", "ssn", ""},
+                    SsnScene{"RingRemeshedM1", "ring_compression_remeshed", "ssn", ""},
                     SsnScene{"TestIDoubleAction", "paper_test1_double_action", "ssn+node_to_segment",
                              "--set stepping.end_stroke=3"}),
     [](const testing::TestParamInfo<SsnScene>& p) { return p.param.test; });
@@ -137,4 +138,40 @@ TEST(Ssn, ArctanRingApproachesTheExactLaw) {
   EXPECT_LT(d3, 0.05);
   EXPECT_LT(d5, 0.002);
   EXPECT_LT(d5, d3 / 5) << "the arctan law does not approach the exact one as a falls";
+}
+
+// The backward extrusion under ssn past its first two remeshes: each
+// segment's first solve starts from the forces the old mesh carried
+// (ContactRow::prior) and holds the sets they give until it converges on
+// them; started with every row new, the solve after the second remesh
+// diverged. The conditions hold at every step, and the punch load is
+// direct's (the same friction factor law, arctan against exact).
+//~ feature = "ssn"
+//~ scene = "backward_extrusion_cup to 2.5 mm (two remeshes) under ssn and direct"
+//~ source = "Popp et al. 2010 (multipliers carried to the next configuration as the Newton start); paper eq. 11"
+//~ uses = ["expect_conditions"]
+//~ [[check]]
+//~ what = "the run finishes past two remeshes"
+//~ compares = "expected behaviour"
+//~ tolerance = "finished, >= 2 remeshes"
+//~ why = "the resumed solves after a remesh are what stopped this scene"
+//~ [[check]]
+//~ what = "punch load at 2.5 mm against direct's"
+//~ compares = "another formulation"
+//~ tolerance = "1 % (relative)"
+//~ why = "measured 0.1 to 0.3 % (the arctan law at a = 1e-3 against the exact law, and each formulation's landings); 1 % leaves room for the landings' staircase"
+TEST(Ssn, BackwardExtrusionGoesOnAfterRemeshes) {
+  const std::string kStroke = " --set stepping.end_stroke=2.5";
+  const std::string s = run_case("backward_extrusion_cup", "--formulation ssn" + kStroke, 0, "_ssn");
+  const std::string d = run_case("backward_extrusion_cup", "--formulation direct" + kStroke, 0, "_direct");
+  ASSERT_TRUE(run_finished(s));
+  expect_conditions(s);
+  const std::string events = read_text(s + "/events.csv");
+  int remeshes = 0;
+  for (std::size_t at = events.find(",remesh ("); at != std::string::npos; at = events.find(",remesh (", at + 1))
+    ++remeshes;
+  EXPECT_GE(remeshes, 2);
+  const double a = last(read_history(s + "/history.csv"), "punch.Fy");
+  const double b = last(read_history(d + "/history.csv"), "punch.Fy");
+  EXPECT_NEAR(a, b, 0.01 * std::abs(b));
 }

@@ -783,3 +783,19 @@ TEST(Conformance, SsnCondensedRowsGiveTheSaddlePointSystemsSolution) {
     EXPECT_GT(condensed, 0);
   }
 }
+
+// ssn's own iteration count is the step's: under the midpoint scheme the
+// half-step solve's and the end solve's together, as the step's Newton
+// iterations count them (a count of the last solve only fails).
+TEST(Conformance, SsnIterationsCountEverySolveOfTheStep) {
+  ContactRun run(die_block(friction_table("factor")), "ssn", "", {"stepping.integration=midpoint"});
+  ASSERT_TRUE(run.outcome.finished);
+  const ContactInfo info = run.contact->info();
+  const auto col = std::find(info.column_names.begin(), info.column_names.end(), "ssn_iterations");
+  ASSERT_NE(col, info.column_names.end());
+  for (std::size_t k = 1; k < run.out.steps.size(); ++k) {
+    const StepRecord& s = run.out.steps[k];
+    EXPECT_EQ(s.solves, 2) << "step " << k;
+    EXPECT_EQ(s.contact_report[col - info.column_names.begin()], double(s.newton_iterations)) << "step " << k;
+  }
+}
