@@ -1,0 +1,77 @@
+// Requirement (kernel): step control by a local error estimate
+// (stepping.tolerance, model/step_control.hpp). On the frictionless
+// upsetting with its exact solution the achieved error of the press load
+// follows the stated tolerance.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "analytic.hpp"
+#include "results.hpp"
+#include "run_case.hpp"
+
+using namespace rpfem;
+using accept::aisi1035;
+using accept::run_case;
+
+namespace {
+
+struct Achieved {
+  double error = 0;  // max_s |F_h(s) - F(s)| / max_s |F(s)| (docs/theory.md, "Step control")
+  int steps = 0;
+};
+
+// The frictionless upsetting (exact: homogeneous, verification/analytic.hpp)
+// at tolerance tol under the given integration; a 4 x 4 mesh (the flow is
+// homogeneous: the mesh adds no error), fields at the last step only.
+Achieved upsetting_at(double tol, const std::string& integration, const std::string& suffix) {
+  char extra[400];
+  std::snprintf(extra, sizeof extra,
+                "--set stepping.tolerance=%g --set stepping.integration=%s --set bodies.billet.mesh.nx=4 "
+                "--set bodies.billet.mesh.ny=4 --set stepping.output_every=100000",
+                tol, integration.c_str());
+  const std::string dir = run_case("upsetting_frictionless_axisym", extra, 0, suffix);
+  const History h = read_history(dir + "/history.csv");
+  const auto& s = h.at("stroke");
+  const auto& F = h.at("top_platen.Fy");
+  double worst = 0, largest = 0;
+  for (std::size_t i = 0; i < h.rows(); ++i) {
+    const double exact = upsetting_load_axisymmetric(aisi1035(false), 20, 20, 20 - 2 * s[i]);
+    worst = std::max(worst, std::abs(-F[i] - exact));
+    largest = std::max(largest, exact);
+  }
+  EXPECT_NEAR(s.back(), 5.0, 1e-9) << "the run must reach 50 % reduction";
+  EXPECT_GT(h.at("step_error_bound").back(), 0.0) << "the estimate's bound in history.csv";
+  return {worst / largest, int(h.rows()) - 1};
+}
+
+}  // namespace
+
+//~ feature = "upsetting"
+//~ scene = "upsetting_frictionless_axisym, explicit Euler, stepping.tolerance 1e-2, 1e-3 and 1e-4, a 4 x 4 mesh"
+//~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2 (exact load); Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4 (step-size control by an embedded pair)"
+//~ [[check]]
+//~ what = "achieved error of the press load, max over the stroke of |F_h - F| over the largest exact load, against the stated tolerance"
+//~ compares = "exact solution"
+//~ tolerance = "between tol / 3 and 3 tol at each tolerance"
+//~ why = "the control's promise: a run to a stated accuracy; a wrong estimate (order, scale, norm) or bound misses by more than a factor of 3"
+//~ [[check]]
+//~ what = "achieved error falls with the tolerance"
+//~ compares = "expected behaviour"
+//~ tolerance = "smaller at each smaller tolerance"
+//~ why = "a controller that does not follow its tolerance does not control"
+TEST(StepControl, EulerUpsettingMeetsTheTolerance) {
+  double last = INFINITY;
+  for (double tol : {1e-2, 1e-3, 1e-4}) {
+    const Achieved a = upsetting_at(tol, "euler", "_" + std::to_string(tol));
+    std::printf("[measured] tolerance %.0e: achieved %.3e (ratio %.2f) in %d steps\n", tol, a.error, a.error / tol,
+                a.steps);
+    EXPECT_GT(a.error, tol / 3) << tol;
+    EXPECT_LT(a.error, 3 * tol) << tol;
+    EXPECT_LT(a.error, last) << tol;
+    last = a.error;
+  }
+}
