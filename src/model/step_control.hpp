@@ -14,14 +14,15 @@
 // relative:
 //
 //   e = max( max_nodes |x_M - x_E| / L,
-//            max_elements ( max_points |sigma(eps_M) - sigma(eps_E)| /
-//            sigma(eps_M)
-//                           + |V(x_M) - V(x_E)| / V(x_M) ) )             (1)
+//            sum_e ( <|s(eps_M) - s(eps_E)|>_e V_e(x_M)
+//                    + <s(eps_M)>_e |V_e(x_M) - V_e(x_E)| )
+//            / sum_e <s(eps_M)>_e V_e(x_M) )                            (1)
 //
-// with L the bodies' size (the reference length), sigma the point's flow
-// stress law at the strain and V the element's volume (per unit depth in
-// plane strain): an element's share of a load is its stress times its
-// volume over a length (docs/theory.md, "Step control").
+// with L the bodies' size (the reference length), s the point's flow
+// stress law at the strain, <.>_e the mean over the element's 2x2 points
+// and V_e its volume (per unit depth in plane strain): the relative error
+// of the sum of flow stress times volume, a load's measure, is at most
+// the second term (docs/theory.md, "Step control").
 // The tolerance is an error per unit stroke (HNW II.4, "error per unit
 // step"): a step of increment ds is accepted when e <= tol ds / S, S the
 // end stroke, so the local errors of a run add up to at most tol over the

@@ -40,16 +40,17 @@ TEST(StepControl, EstimateIsEulersLocalErrorInTheMotion) {
   }
 }
 
-// In the strain: the flow stress's relative change between the Euler and
-// the midpoint strain, sigma = K (eps0 + eps)^n.
+// In the strain: the flow stress's change between the Euler and the
+// midpoint strain, sigma = K (eps0 + eps)^n, over the element's mean flow
+// stress (one point of four changes).
 TEST(StepControl, EstimateInTheFlowStress) {
   OneElement b;
   b.law.K = 100, b.law.n = 0.2, b.law.eps0 = 0.02;
   const double dt = 0.1;
   const std::vector<Vec2> v(4, Vec2(1, 0));
   const double e = b.estimate(dt, v, v, 1.0, {{1, 1.2, 1, 1}});
-  EXPECT_NEAR(e, 1 - b.law.yield(0.2) / b.law.yield(0.22),
-              1e-14);  // relative to the midpoint's
+  const double s20 = b.law.yield(0.2), s22 = b.law.yield(0.22);
+  EXPECT_NEAR(e, (s22 - s20) / (3 * s20 + s22), 1e-14);
 }
 
 // In the volume: a half-step velocity that stretches the element,
@@ -64,8 +65,26 @@ TEST(StepControl, EstimateInTheVolume) {
   for (int i = 0; i < 4; ++i) vh[i] = Vec2(a * b.m.x[i](0), 0);
   EXPECT_NEAR(b.estimate(dt, v0, vh, 1e9, b.rate), dt * a / (1 + dt * a), 1e-14);
   b.law.n = 0.2, b.law.eps0 = 0.02;
-  EXPECT_NEAR(b.estimate(dt, v0, vh, 1e9, {{1, 1.2, 1, 1}}),
-              dt * a / (1 + dt * a) + 1 - b.law.yield(0.2) / b.law.yield(0.22), 1e-14);
+  const double s20 = b.law.yield(0.2), s22 = b.law.yield(0.22);
+  EXPECT_NEAR(b.estimate(dt, v0, vh, 1e9, {{1, 1.2, 1, 1}}), dt * a / (1 + dt * a) + (s22 - s20) / (3 * s20 + s22),
+              1e-14);
+}
+
+// The elements' errors weighted by their flow stress times volume (the
+// sum's relative error, a load's): one element of two in error, the two
+// alike, gives about half its own.
+TEST(StepControl, EstimateWeightsTheElements) {
+  const Mesh m = make_rectangle("b", {0, 0, 2, 1, 2, 1});
+  FlowStressLaw law;
+  law.K = 100, law.n = 0.2, law.eps0 = 0.02;
+  const std::vector<Vec2> v(m.x.size(), Vec2::Zero());
+  const std::vector<std::array<double, 4>> eps(2, {0.1, 0.1, 0.1, 0.1}), r0(2, {1, 1, 1, 1});
+  std::vector<std::array<double, 4>> rh = r0;
+  rh[0] = {1.2, 1.2, 1.2, 1.2};
+  const double dt = 0.1;
+  const double e = step_error_estimate(m, Geometry::PlaneStrain, m.x, dt, v, v, eps, r0, rh, {&law, &law}, 1.0);
+  const double s20 = law.yield(0.2), s22 = law.yield(0.22);
+  EXPECT_NEAR(e, (s22 - s20) / (s22 + s20), 1e-14);
 }
 
 // The increment (2): e = bound gives the safety factor; the changes
