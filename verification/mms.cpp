@@ -2,7 +2,9 @@
 
 #include <cmath>
 
+#include "fem/error_indicator.hpp"
 #include "fem/quad4.hpp"
+#include "fem/rigid_plastic_element.hpp"
 #include "mesh/generate.hpp"
 #include "model/step_problem.hpp"
 #include "none/no_contact.hpp"
@@ -127,6 +129,43 @@ double relative_l2_error(const Mesh& mesh, Geometry g, const std::vector<Vec2>& 
   return std::sqrt(err2 / ref2);
 }
 
+// The effective strain rate sqrt(e . M e) of the rates e = (e_11, e_22,
+// e_33, gamma_12).
+double effective_rate(const Eigen::Vector4d& e) { return std::sqrt(e.dot(effective_rate_metric() * e)); }
+
+// The effective rate of v at point p of element e.
+double discrete_rate(const Mesh& mesh, Geometry g, Index e, const Quad4Point& p, const std::vector<Vec2>& v) {
+  Vec8 ve;
+  for (int a = 0; a < 4; ++a) ve.segment<2>(2 * a) = v[mesh.quads[e][a]];
+  return effective_rate(strain_rate_matrix(p, g) * ve);
+}
+
+// || epsdot(v) - epsdot(v*) || / || epsdot(v*) || in L2 over the mesh.
+double relative_rate_error(const Mesh& mesh, Geometry g, const std::vector<Vec2>& v) {
+  double err2 = 0, ref2 = 0;
+  for_each_gauss_point(mesh, g, [&](Index e, const Quad4Point& p, const Vec2& xp, double w) {
+    const Exact ex = exact(g, xp);
+    const Eigen::Vector4d rate(ex.grad(0, 0), ex.grad(1, 1), g == Geometry::Axisymmetric ? ex.v(0) / xp(0) : 0.0,
+                               ex.grad(0, 1) + ex.grad(1, 0));
+    const double exact_rate = effective_rate(rate);
+    const double d = discrete_rate(mesh, g, e, p, v) - exact_rate;
+    err2 += w * d * d;
+    ref2 += w * exact_rate * exact_rate;
+  });
+  return std::sqrt(err2 / ref2);
+}
+
+// The recovery-based estimate of the same from the rates at the 2x2 points.
+double rate_error_estimate(const Mesh& mesh, Geometry g, const std::vector<Vec2>& v) {
+  std::vector<std::array<double, 4>> rate(mesh.num_elements());
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    Quad4Coords X;
+    for (int a = 0; a < 4; ++a) X[a] = mesh.x[mesh.quads[e][a]];
+    for (int q = 0; q < 4; ++q) rate[e][q] = discrete_rate(mesh, g, e, quad4_gauss_point(X, q), v);
+  }
+  return strain_rate_error(mesh, mesh.x, rate, g).relative;
+}
+
 }  // namespace
 
 MmsResult run_mms(Geometry g, int n) {
@@ -165,6 +204,8 @@ MmsResult run_mms(Geometry g, int n) {
   r.n = n;
   r.h = 1.0 / n;
   r.l2_error = relative_l2_error(mesh, g, v);
+  r.strain_rate_error = relative_rate_error(mesh, g, v);
+  r.strain_rate_estimate = rate_error_estimate(mesh, g, v);
   r.newton_iterations = nr.iterations;
   r.converged = nr.converged;
   return r;

@@ -19,6 +19,7 @@ void add(RunOutcome& run, const RunOutcome& more) {
   run.steps = more.steps;
   run.total_newton_iterations += more.total_newton_iterations;
   run.total_cuts += more.total_cuts;
+  run.step_rejections += more.step_rejections;
   run.retunes += more.retunes;
   run.assembly_seconds += more.assembly_seconds, run.analyze_seconds += more.analyze_seconds;
   run.factor_seconds += more.factor_seconds, run.solve_seconds += more.solve_seconds;

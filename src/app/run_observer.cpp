@@ -54,6 +54,7 @@ StepFields RunObserver::fields(const StepRecord& r) const {
   f.strain = &r.strain;
   f.mean_stress = &r.mean_stress;
   f.element_scalars["flow_stress"] = r.flow_stress;
+  f.element_scalars["strain_rate_error"] = r.strain_rate_error;
   f.node_scalars = r.node_fields;
   // The values history.csv has for the step: its loads and monitors.
   for (std::size_t i = 0; i < load_names_.size() && i < r.loads.size(); ++i) {
@@ -91,9 +92,13 @@ void RunObserver::on_start(const DerivedParameters& d, const std::vector<std::st
     cols.push_back(n + ".Fx");
     cols.push_back(n + ".Fy");
   }
-  for (const auto& c : {"newton_iterations", "contact_passes", "solves", "residual", "tangent_rcond", "volume", "volume_change", "dt", "cuts",
-                        "min_scaled_jacobian", "rigid_points"})
+  for (const auto& c : {"newton_iterations", "contact_passes", "solves", "residual", "tangent_rcond", "volume",
+                        "volume_change", "dt", "cuts", "min_scaled_jacobian", "rigid_points", "strain_rate_error"})
     cols.push_back(c);
+  // Step control (stepping.tolerance): the step's increment (mm), its
+  // local error estimate and the estimate's bound (model/step_control.hpp).
+  if (scene_.stepping.tolerance > 0)
+    for (const auto& c : {"increment", "step_error", "step_error_bound"}) cols.push_back(c);
   for (const auto& n : report_names) cols.push_back(n);
   for (const auto& m : monitors_) cols.push_back(m.name);
   history_ = std::make_unique<HistoryWriter>(dir_ + "/history.csv", cols);
@@ -112,9 +117,12 @@ void RunObserver::on_step(const StepRecord& r) {
     row.push_back(l(0));
     row.push_back(l(1));
   }
-  for (double v : {double(r.newton_iterations), double(r.contact_passes), double(r.solves), r.residual, r.tangent_rcond, r.volume, dv, r.dt,
-                   double(r.cuts), r.min_scaled_jacobian, double(r.rigid_points)})
+  for (double v :
+       {double(r.newton_iterations), double(r.contact_passes), double(r.solves), r.residual, r.tangent_rcond, r.volume,
+        dv, r.dt, double(r.cuts), r.min_scaled_jacobian, double(r.rigid_points), r.strain_rate_error_relative})
     row.push_back(v);
+  if (scene_.stepping.tolerance > 0)
+    for (double v : {r.stroke - last_.stroke, r.step_error, r.step_error_bound}) row.push_back(r.step == 0 ? 0.0 : v);
   row.insert(row.end(), r.contact_report.begin(), r.contact_report.end());
   for (double v : evaluate_monitors(monitors_, r.x)) row.push_back(v);
   history_->write_row(row);
@@ -282,6 +290,7 @@ std::string RunObserver::finish(const RunOutcome& out) {
   if (!out.finished) summary_.insert_or_assign("reason", out.reason);
   summary_.insert_or_assign("total_newton_iterations", out.total_newton_iterations);
   summary_.insert_or_assign("total_step_cuts", out.total_cuts);
+  if (scene_.stepping.tolerance > 0) summary_.insert_or_assign("total_step_rejections", out.step_rejections);
   summary_.insert_or_assign("total_contact_retunes", out.retunes);
   summary_.insert_or_assign("final_stroke_mm", last_.stroke);
   summary_.insert_or_assign("final_mesh", toml::table{{"nodes", mesh_nodes_}, {"elements", mesh_elements_}});

@@ -51,6 +51,7 @@ const char* extra_units(const std::string& name) {
   if (name == "contact_pressure" || name == "contact_shear" || name == "flow_stress") return "MPa";
   if (name == "slip_velocity") return "mm/s";
   if (name == "contact_gap") return "mm";
+  if (name == "strain_rate_error") return "1/s";
   return "unknown";
 }
 

@@ -471,6 +471,29 @@ void read_stepping(CaseSection st, int max_steps, Scene& sc) {
   sc.stepping.integration =
       st.text("integration", "euler", {"euler", "midpoint"}) == "midpoint" ? TimeIntegration::Midpoint
                                                                           : TimeIntegration::Euler;
+  // Step control (model/step_control.hpp): its keys are read, and so
+  // recorded, only with a tolerance.
+  if (const auto tol = st.optional_real("tolerance", {0, 1, true, true})) {
+    SteppingSpec& s = sc.stepping;
+    s.tolerance = *tol;
+    if (s.relative_increment > 0)
+      st.fail("relative_increment",
+              "expected no relative_increment where stepping.tolerance is set (the tolerance chooses the "
+              "increments)");
+    s.min_increment = st.real("min_increment", std::min(1e-5 * s.end_stroke, s.stroke_increment),
+                              {0, s.stroke_increment, true, false}, "mm, at most stroke_increment");
+    s.max_increment =
+        st.real("max_increment", std::max(s.stroke_increment, 0.1 * s.end_stroke),
+                {s.stroke_increment, s.end_stroke, false, false}, "mm, from stroke_increment to end_stroke");
+    if (!(s.end_stroke / s.min_increment <= max_steps))
+      st.fail("min_increment",
+              "at least end_stroke / run.max_steps = " + std::to_string(s.end_stroke / max_steps) + " mm");
+  } else {
+    for (const char* k : {"min_increment", "max_increment"})
+      if (st.has(k))
+        st.fail("tolerance", std::string("expected a tolerance where stepping.") + k +
+                                 " is given (the increments' bounds of the step control)");
+  }
 }
 
 // [remesh]: off unless enabled; its triggers and target element size.

@@ -100,6 +100,12 @@ struct SteppingSpec {
   int max_cuts = 6;               // halvings of a failing step
   int output_every = 1;           // fields written every k steps (and the last)
   TimeIntegration integration = TimeIntegration::Euler;
+  // Step control by a local error estimate (model/step_control.hpp): the
+  // run's relative error bound over the stroke (0: off, fixed increments);
+  // stroke_increment is then the first step's increment, and the control
+  // keeps the increments within [min_increment, max_increment] (mm).
+  double tolerance = 0;
+  double min_increment = 0, max_increment = 0;
   // The nominal increment of the step that starts at this stroke, mm.
   double increment_at(double stroke) const { return std::max(stroke_increment, relative_increment * stroke); }
   // Steps at the nominal increments (a last short step counts as one).

@@ -7,9 +7,11 @@
 #include <stdexcept>
 
 #include "core/timing.hpp"
+#include "fem/error_indicator.hpp"
 #include "mesh/quality.hpp"
-#include "model/die_interference.hpp"
 #include "model/boundary.hpp"
+#include "model/die_interference.hpp"
+#include "model/step_control.hpp"
 #include "model/step_problem.hpp"
 
 namespace rpfem {
@@ -110,6 +112,7 @@ class Runner {
     double quality = 0;       // the moved configuration's least scaled Jacobian
     Index quality_element = -1;  // its element
     std::vector<std::string> events;  // the contact events of all its solves, failed or not
+    double estimate = 0;              // step control: the local error estimate (model/step_control.hpp)
   };
   // Scales, materials, the run's start for the observer.
   void set_up();
@@ -153,6 +156,7 @@ class Runner {
   KernelConstraints bc_;
   DerivedParameters derived_;
   std::vector<ElementMaterial> materials_;
+  std::vector<const FlowStressLaw*> laws_;  // per element, materials_' laws
   std::vector<double> flow_stress_;
   RunOutcome out_;
   // For the warnings: where the least rcond was met; the steps solved only
@@ -170,6 +174,12 @@ class Runner {
   int segment_first_step_ = 0;       // the step this run started at (a resume's)
   double segment_start_quality_ = 1;  // the least scaled Jacobian of its first configuration
   double last_dt_ = 0;                // s, the last recorded step's length
+  // Step control (stepping.tolerance): the next step's increment (mm), the
+  // recorded step's estimate and its bound, and the steps kept at
+  // stepping.min_increment above their bound (the worst ratio, its step).
+  double proposed_increment_ = 0, step_estimate_ = 0, step_bound_ = 0;
+  int steps_above_bound_ = 0, worst_bound_step_ = -1;
+  double worst_bound_ratio_ = 0;
   double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
   // The last recorded step's largest penetration over the element size,
   // at most run.penetration_tolerance (0 where the treatment measures
@@ -359,6 +369,8 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   r.solves = sol.solves;
   r.residual = sol.residual;
   r.tangent_rcond = std::isfinite(sol.rcond) ? sol.rcond : -1.0;
+  r.step_error = resumed ? 0.0 : step_estimate_;
+  r.step_error_bound = resumed ? 0.0 : step_bound_;
   const StepView sv = view(st, step, dt);
   ContactRecord cr = contact_.record(sv, sol.v, sol.F);
   // The reach of a fold's reflex corner (attempt()): this step's
@@ -408,6 +420,10 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
     for (double rate : sol.rate[e]) r.rigid_points += rate < derived_.limiting_strain_rate;
   }
   r.flow_stress = sol.flow_stress;
+  // The recovery-based estimate of the strain-rate error (fem/error_indicator.hpp).
+  StrainRateError zz = strain_rate_error(scene_.mesh, st.x, sol.rate, scene_.geometry);
+  r.strain_rate_error = std::move(zz.element_rms);
+  r.strain_rate_error_relative = zz.relative;
   r.volume = volume * bc_.volume_factor;
   r.loads = bc_.group_loads(st.x, sol.F);
   for (const Vec2& l : cr.loads) r.loads.push_back(l);
@@ -438,6 +454,13 @@ RunOutcome Runner::finish() {
            sci(scene_.solver.newton.tol_force) + ")";
     out_.warnings.push_back(w + ": a penalty or stiffness too large for double precision");
   }
+  if (steps_above_bound_ > 0)
+    out_.warnings.push_back("step control: " + std::to_string(steps_above_bound_) +
+                            " step(s) kept at stepping.min_increment with the local error estimate above its bound, "
+                            "up to " +
+                            sci(worst_bound_ratio_) + " times it at step " + std::to_string(worst_bound_step_) +
+                            " (history.csv: step_error, step_error_bound): the run may miss stepping.tolerance; "
+                            "lower stepping.min_increment");
   if (friction_steps_ > 0)
     out_.warnings.push_back("exact friction met only to " + sci(worst_friction_) + " at step " +
                             std::to_string(worst_friction_step_) + " (stroke " + sci(worst_friction_stroke_) +
@@ -507,6 +530,8 @@ void Runner::set_up() {
     const int b = mesh.element_body[e];
     materials_[e] = {&scene_.bodies[b].law, derived_.alpha[b], derived_.regularization};
   }
+  laws_.resize(mesh.num_elements());
+  for (Index e = 0; e < mesh.num_elements(); ++e) laws_[e] = materials_[e].law;
   flow_stress_.assign(mesh.num_elements(), 0.0);
   for (Index e = 0; e < mesh.num_elements(); ++e) flow_stress_[e] = materials_[e].law->yield(0.0);
   derived_.dt_nominal = scene_.stepping.stroke_increment / derived_.reference_speed;
@@ -551,6 +576,9 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   // (second order in dt); the solves at the start and end of a step only
   // predict and record.
   const bool midpoint = scene_.stepping.integration == TimeIntegration::Midpoint;
+  // The step control needs the half step's velocity under either
+  // integration (the embedded pair of model/step_control.hpp).
+  const bool control = scene_.stepping.tolerance > 0;
   const Solution* mover = &sol;
   Solution mid;
   auto failed = [&](const Solution& f, const std::string& why) {
@@ -559,10 +587,13 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
     out.events.insert(out.events.end(), f.events.begin(), f.events.end());
     return why;
   };
-  if (midpoint) {
+  if (midpoint || control) {
     mid = solve(advance(st, sol, 0.5 * dt), sol.v, step, dt, &st);
     if (!mid.failure.empty()) return failed(mid, "midpoint solve: " + mid.failure);
-    mover = &mid;
+    if (midpoint) mover = &mid;
+    if (control)
+      out.estimate = step_error_estimate(scene_.mesh, scene_.geometry, st.x, dt, sol.v, mid.v, st.strain, sol.rate,
+                                         mid.rate, laws_, derived_.reference_length);
   }
   out.next = advance(st, *mover, dt);
   StepView moved = view(st, step, dt);
@@ -608,14 +639,18 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
 }
 
 bool Runner::take_step(State& st, Solution& sol, int step) {
-  const double end = scene_.stepping.end_stroke;
-  double dt = std::min(scene_.stepping.increment_at(st.stroke), end - st.stroke) / derived_.reference_speed;
+  const SteppingSpec& sp = scene_.stepping;
+  const double end = sp.end_stroke;
+  const bool control = sp.tolerance > 0;
+  const double increment = control ? proposed_increment_ : sp.increment_at(st.stroke);
+  double dt = std::min(increment, end - st.stroke) / derived_.reference_speed;
   const std::optional<double> lim = contact_.limit_dt(view(st, step, dt), sol.v);
   const bool to_landing = lim && *lim < dt;
   if (to_landing) dt = *lim;
   Attempt a;
   int cuts = 0, redone = 0;
   bool landed = to_landing;
+  bool rejected = false;  // step control: redone shorter for its estimate
   contact_.remember_start_gaps();
   // An attempt that is not kept leaves the contact state as the step
   // started (a retry starts from it, not from what the failed attempt
@@ -659,6 +694,25 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
         continue;
       }
     }
+    // Step control: a step whose estimate exceeds its bound is redone from
+    // its start with the increment (2) of model/step_control.hpp, down to
+    // stepping.min_increment; there it is kept (and counted for the
+    // warning).
+    if (why.empty() && control) {
+      const double ds = dt * derived_.reference_speed;
+      const double bound = step_error_bound(sp.tolerance, ds, end);
+      if (a.estimate > bound && ds > sp.min_increment * (1 + 1e-9)) {
+        const double next = std::max(sp.min_increment, next_increment(ds, a.estimate, bound, ds, true));
+        ++out_.step_rejections;
+        rejected = true, landed = false;
+        discard();
+        obs_.on_retry(
+            step, next / derived_.reference_speed,
+            "local error estimate " + sci(a.estimate) + " above its bound " + sci(bound) + " (stepping.tolerance)");
+        dt = next / derived_.reference_speed;
+        continue;
+      }
+    }
     if (why.empty()) break;
     if (scene_.remesh.enabled && (a.inverted || poor) && step > segment_first_step_ + 1) {
       // Remesh the last configuration rather than creep up to the fold.
@@ -686,6 +740,21 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     dt *= 0.5;
     ++cuts;
     landed = false;  // a halved step ends short of the landing
+  }
+  if (control) {
+    // The next increment from this step's estimate (2). A step ended short
+    // of the proposed increment by a landing or the end of the stroke (not
+    // by the control or a failure) changes the proposal from the proposal.
+    const double ds = dt * derived_.reference_speed;
+    const double bound = step_error_bound(sp.tolerance, ds, end);
+    const double base = rejected || cuts > 0 ? ds : std::max(ds, proposed_increment_);
+    proposed_increment_ =
+        std::clamp(next_increment(ds, a.estimate, bound, base, false), sp.min_increment, sp.max_increment);
+    step_estimate_ = a.estimate, step_bound_ = bound;
+    if (a.estimate > bound) {
+      ++steps_above_bound_;
+      if (a.estimate / bound > worst_bound_ratio_) worst_bound_ratio_ = a.estimate / bound, worst_bound_step_ = step;
+    }
   }
   contact_.end_step(view(st, step, dt), a.moved_by);
   st = std::move(a.next);
@@ -744,6 +813,11 @@ RunOutcome Runner::run(const RunState* from) {
   // there (a contact penalty on the predicted gap depends on it), so the
   // solve repeats the recorded one on the new mesh.
   last_dt_ = from && from->dt > 0 ? from->dt : derived_.dt_nominal;
+  // The step control's first increment: stroke_increment, or on resuming
+  // the last step's.
+  proposed_increment_ = from && from->dt > 0 ? from->dt * derived_.reference_speed : scene_.stepping.stroke_increment;
+  if (scene_.stepping.tolerance > 0)
+    proposed_increment_ = std::clamp(proposed_increment_, scene_.stepping.min_increment, scene_.stepping.max_increment);
   const int first = segment_first_step_;
   Solution sol = solve(st, guess, first, last_dt_, nullptr, !midpoint);
   // A resumed solve from the velocities carried over from the old mesh

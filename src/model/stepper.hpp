@@ -32,8 +32,14 @@ struct StepRecord {
   double residual = 0;                  // relative force residual
   double tangent_rcond = -1;            // least condition estimate of the step's
                                         // factorizations (-1: none, e.g. ipopt)
+  double step_error = 0;                // step control: the step's local error estimate
+  double step_error_bound = 0;          // and its bound (model/step_control.hpp; 0: off)
   std::vector<Vec2> x, v;               // mm, mm/s
   std::vector<double> strain_rate, strain, mean_stress, flow_stress;  // per element
+  // The recovery-based strain-rate error (fem/error_indicator.hpp): per
+  // element its root mean square (1/s), and the global relative estimate.
+  std::vector<double> strain_rate_error;
+  double strain_rate_error_relative = 0;
   std::vector<Vec2> loads;              // N, whole body, per load_names entry
   std::vector<Vec2> contact_force;      // N, per node
   std::vector<double> contact_report;   // per formulation report_names entry
@@ -101,6 +107,7 @@ struct RunOutcome {
   int steps = 0;       // recorded steps after step 0
   int total_newton_iterations = 0;
   int total_cuts = 0;
+  int step_rejections = 0;  // steps redone shorter by the step control (stepping.tolerance)
   // Steps solved again from their start with the contact treatment's
   // parameters changed (ContactFormulation::retune).
   int retunes = 0;

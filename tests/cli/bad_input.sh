@@ -91,6 +91,13 @@ expect quadrilateral-corners "paper_test2_virtual_rigid.toml: key 'bodies.punch.
 sed 's/^height = /heigth = /' "$base" > "$tmp/misspelt.toml"
 expect misspelt-required "unknown key 'bodies.billet.mesh.heigth' (misspelt?); did you mean 'height'?" -- \
   "$rpfem" run "$tmp/misspelt.toml" --out "$tmp/o26"
+# The step control's keys (stepping.tolerance).
+expect bounds-without-tolerance "key 'stepping.tolerance': expected a tolerance where stepping.min_increment is given" -- \
+  "$rpfem" run "$base" --out "$tmp/o27a" --set stepping.min_increment=0.001
+expect tolerance-range "key 'stepping.tolerance': expected a number in (0, 1)" -- \
+  "$rpfem" run "$base" --out "$tmp/o27b" --set stepping.tolerance=0.0
+expect max-increment-range "key 'stepping.max_increment': expected a number in \[0.05, 5\]" -- \
+  "$rpfem" run "$base" --out "$tmp/o27c" --set stepping.tolerance=1e-3 --set stepping.max_increment=0.01
 expect misspelt-optional "unknown key 'stepping.output_evry' (misspelt, or not used by this scene and formulation); did you mean 'output_every'?" -- \
   "$rpfem" run "$base" --out "$tmp/o27" --set stepping.output_evry=2
 # verify needs a suite's folder (every check failed as "no run", exit 1).

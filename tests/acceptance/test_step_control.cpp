@@ -1,0 +1,150 @@
+// Requirement (kernel): step control by a local error estimate
+// (stepping.tolerance, model/step_control.hpp). On the frictionless
+// upsetting with its exact solution the achieved error of the press load
+// follows the stated tolerance.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "analytic.hpp"
+#include "results.hpp"
+#include "run_case.hpp"
+
+using namespace rpfem;
+using accept::aisi1035;
+using accept::run_case;
+
+namespace {
+
+struct Achieved {
+  double error = 0;  // max_s |F_h(s) - F(s)| / max_s |F(s)| (docs/theory.md, "Step control")
+  int steps = 0;
+};
+
+// The frictionless upsetting (exact: homogeneous, verification/analytic.hpp)
+// at tolerance tol under the given integration; a 4 x 4 mesh (the flow is
+// homogeneous: the mesh adds no error), fields at the last step only.
+Achieved upsetting_at(double tol, const std::string& integration, const std::string& suffix) {
+  char extra[400];
+  std::snprintf(extra, sizeof extra,
+                "--set stepping.tolerance=%g --set stepping.integration=%s --set bodies.billet.mesh.nx=4 "
+                "--set bodies.billet.mesh.ny=4 --set stepping.output_every=100000",
+                tol, integration.c_str());
+  const std::string dir = run_case("upsetting_frictionless_axisym", extra, 0, suffix);
+  const History h = read_history(dir + "/history.csv");
+  const auto& s = h.at("stroke");
+  const auto& F = h.at("top_platen.Fy");
+  double worst = 0, largest = 0;
+  for (std::size_t i = 0; i < h.rows(); ++i) {
+    const double exact = upsetting_load_axisymmetric(aisi1035(false), 20, 20, 20 - 2 * s[i]);
+    worst = std::max(worst, std::abs(-F[i] - exact));
+    largest = std::max(largest, exact);
+  }
+  EXPECT_NEAR(s.back(), 5.0, 1e-9) << "the run must reach 50 % reduction";
+  EXPECT_GT(h.at("step_error_bound").back(), 0.0) << "the estimate's bound in history.csv";
+  return {worst / largest, int(h.rows()) - 1};
+}
+
+// Steps where a run's count of contact rows changes (its landings).
+std::vector<std::size_t> landings(const History& h) {
+  std::vector<std::size_t> l;
+  if (!std::count(h.columns.begin(), h.columns.end(), "contact_nodes")) return l;
+  const auto& c = h.at("contact_nodes");
+  for (std::size_t i = 1; i < c.size(); ++i)
+    if (c[i] != c[i - 1]) l.push_back(i);
+  return l;
+}
+
+// The tolerance's quantity (docs/theory.md, "Step control by a local error
+// estimate") against a reference run: max |F_h - F_ref| / max |F_ref| over
+// the run's strokes, the reference interpolated linearly, no stroke within
+// one step (of either run) of either run's landing compared.
+double achieved_against(const History& run, const History& ref, const std::string& col) {
+  const auto& rs = ref.at("stroke");
+  const auto& rF = ref.at(col);
+  const auto& s = run.at("stroke");
+  const auto& F = run.at(col);
+  std::vector<std::pair<double, double>> windows;
+  for (std::size_t i : landings(ref)) windows.push_back({rs[i - 1], rs[std::min(i + 1, rs.size() - 1)]});
+  for (std::size_t i : landings(run)) windows.push_back({s[i - 1], s[std::min(i + 1, s.size() - 1)]});
+  double worst = 0, largest = 0;
+  for (double f : rF) largest = std::max(largest, std::abs(f));
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double lo = s[i == 0 ? 0 : i - 1], hi = s[std::min(i + 1, s.size() - 1)];
+    bool near = false;
+    for (const auto& [a, b] : windows) near = near || (a <= hi && b >= lo);
+    if (near) continue;
+    const std::size_t j = std::lower_bound(rs.begin(), rs.end(), s[i]) - rs.begin();
+    double fr = std::abs(rF.back());
+    if (j == 0) fr = std::abs(rF[0]);
+    else if (j < rs.size()) {
+      const double t = (s[i] - rs[j - 1]) / (rs[j] - rs[j - 1]);
+      fr = (1 - t) * std::abs(rF[j - 1]) + t * std::abs(rF[j]);
+    }
+    worst = std::max(worst, std::abs(std::abs(F[i]) - fr));
+  }
+  return worst / largest;
+}
+
+}  // namespace
+
+//~ feature = "upsetting"
+//~ scene = "upsetting_frictionless_axisym, explicit Euler, stepping.tolerance 1e-2, 1e-3 and 1e-4, a 4 x 4 mesh"
+//~ source = "Kobayashi, Oh and Altan 1989, sec. 5.2 (exact load); Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4 (step-size control by an embedded pair)"
+//~ [[check]]
+//~ what = "achieved error of the press load, max over the stroke of |F_h - F| over the largest exact load, against the stated tolerance"
+//~ compares = "exact solution"
+//~ tolerance = "between tol / 3 and 3 tol at each tolerance"
+//~ why = "the control's promise: a run to a stated accuracy; a wrong estimate (order, scale, norm) or bound misses by more than a factor of 3"
+//~ [[check]]
+//~ what = "achieved error falls with the tolerance"
+//~ compares = "expected behaviour"
+//~ tolerance = "smaller at each smaller tolerance"
+//~ why = "a controller that does not follow its tolerance does not control"
+TEST(StepControl, EulerUpsettingMeetsTheTolerance) {
+  double last = INFINITY;
+  for (double tol : {1e-2, 1e-3, 1e-4}) {
+    const Achieved a = upsetting_at(tol, "euler", "_" + std::to_string(tol));
+    std::printf("[measured] tolerance %.0e: achieved %.3e (ratio %.2f) in %d steps\n", tol, a.error, a.error / tol,
+                a.steps);
+    EXPECT_GT(a.error, tol / 3) << tol;
+    EXPECT_LT(a.error, 3 * tol) << tol;
+    EXPECT_LT(a.error, last) << tol;
+    last = a.error;
+  }
+}
+
+//~ feature = "ring"
+//~ scene = "ring_compression (direct, m = 0.1), explicit Euler, stepping.tolerance 1e-2 and 1e-3; reference: the same case with fixed midpoint steps of 0.005 mm (a tenth of the case's)"
+//~ source = "Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4 (step-size control); the reference's own error against 0.0025 mm steps, 5e-5, is below the tolerances' achieved errors"
+//~ [[check]]
+//~ what = "achieved error of the press load against the reference, max over the strokes away from the landings of |F_h - F_ref| over the largest reference load"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "between tol / 3 and 3 tol at each tolerance, falling with it"
+//~ why = "the control's promise on a scene with contact and friction; measured 0.69 and 0.67 times the tolerance (0.70 and 0.68 against 0.0025 mm steps)"
+TEST(StepControl, EulerRingMeetsTheTolerance) {
+  const std::string ref_dir = run_case("ring_compression",
+                                       "--set stepping.stroke_increment=0.005 --set stepping.output_every=100000", 0,
+                                       "_ref");
+  const History ref = read_history(ref_dir + "/history.csv");
+  double last = INFINITY;
+  for (double tol : {1e-2, 1e-3}) {
+    char extra[300];
+    std::snprintf(extra, sizeof extra,
+                  "--set stepping.tolerance=%g --set stepping.integration=euler --set stepping.output_every=100000",
+                  tol);
+    const std::string dir = run_case("ring_compression", extra, 0, "_" + std::to_string(tol));
+    const History h = read_history(dir + "/history.csv");
+    EXPECT_NEAR(h.at("stroke").back(), 5.0, 1e-9);
+    const double a = achieved_against(h, ref, "top_die.Fy");
+    std::printf("[measured] ring, tolerance %.0e: achieved %.3e (ratio %.2f) in %zu steps\n", tol, a, a / tol,
+                h.rows() - 1);
+    EXPECT_GT(a, tol / 3) << tol;
+    EXPECT_LT(a, 3 * tol) << tol;
+    EXPECT_LT(a, last) << tol;
+    last = a;
+  }
+}
