@@ -50,6 +50,8 @@ void AugLagEnforcement::begin_step(const StepView& v, const std::vector<ContactR
     lambda[i] = it != lambda_.end() ? it->second : 0.0;
   }
   primal_ = complementarity_ = 0;
+  depth_ = 0;
+  for (const ContactRow& r : rows) depth_ = std::max(depth_, -r.kin.gap0 / r.h);
   solve_augmentations_ = 0;
   last_step_.clear();
   omega_ = 1;

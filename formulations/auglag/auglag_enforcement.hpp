@@ -19,6 +19,7 @@
 // penalty's (contact/regularized_rows.hpp), with N the multiplier-shifted
 // normal force.
 #pragma once
+#include <algorithm>
 #include <map>
 #include <utility>
 #include <vector>
@@ -43,7 +44,12 @@ class AugLagEnforcement final : public RegularizedEnforcement {
     return k;
   }
   void columns(std::vector<NamedValue>& out) const override;
-  std::optional<double> penetration_rel() const override { return primal_; }
+  // The deeper of the predicted end-of-step gap's (primal_) and the
+  // configuration's (the rows' gaps as the solve starts: the penalty's
+  // max_penetration_rel), so a run warns of a depth the predicted gaps do
+  // not see (a slave sliding past a master node, a step that started
+  // inside).
+  std::optional<double> penetration_rel() const override { return std::max(primal_, depth_); }
   void derived(std::vector<NamedValue>& out) const override;
   std::any save_state() const override {
     return save_members(RegularizedEnforcement::save_state(), lambda_, solve_augmentations_, augmentations_, step_,
@@ -71,6 +77,7 @@ class AugLagEnforcement final : public RegularizedEnforcement {
   int augmentations_ = 0;        // in this step (all its solves)
   int step_ = -1;
   double primal_ = 0, complementarity_ = 0;
+  double depth_ = 0;  // the rows' deepest gap as the solve starts, over h
   // Aitken's relaxation of the update: the last update's residual N - lambda
   // per row and its factor.
   std::vector<double> last_step_;

@@ -58,7 +58,8 @@ void Mortar::take_over(const ContactZones& zones) {
 double Mortar::deepest_node(const StepView& v, int iface, int side) const {
   const ContactInterface& f = surfaces_.interfaces()[iface];
   const ContactSurface &S = surfaces_.side(iface, side), &M = surfaces_.side(iface, 1 - side);
-  const double capture = capture_ * f.h;
+  // Searched as deep as the rows reach inside the master (add_rows).
+  const double capture = std::max(capture_, kDeepReach) * f.h;
   const SegmentGrid grid(*v.x, M, capture);
   double deepest = 0;
   for (const auto& hit : find_segments(*v.x, S, M, grid, capture))
@@ -81,6 +82,19 @@ void Mortar::columns(const StepView* v, std::vector<NamedValue>& out) const {
 }
 
 namespace {
+
+// The step's predicted motion (mortar.hpp, the reach): each node's
+// displacement from the configuration the rows are built in to the step's
+// predicted end, the slave's indexed like x, the master's like its
+// coordinates (a die's chord ends all by the die's). None without a
+// velocity to predict from (the first solve, an instantaneous one).
+struct Approach {
+  std::vector<Vec2> slave, master;
+  bool known = false;
+  // mm: the most any slave point and master point can approach each other
+  // (a bound for the search).
+  double bound = 0;
+};
 
 // A slave node's row as it accumulates: D_jk over slave nodes k, M_jL over
 // master vertices L (mesh nodes, or the die's chord ends), the master
@@ -130,23 +144,26 @@ constexpr double kInsideEdge = 1e-9;
 constexpr double kDualFacing = 0.5;
 
 // The mortar integrals of every slave edge of S against the master edges
-// of Mst (coordinates xm) facing it within reach `capture`, summed per
-// slave node (indexed like S.nodes); normal: the slave's nodal normals.
+// of Mst (coordinates xm) facing it within reach, summed per slave node
+// (indexed like S.nodes); normal: the slave's nodal normals. The reach
+// (mm): a gap predicted at the step's end (ahead) at most `capture`, a gap
+// now at least -`deep`.
 std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurface& S, const std::vector<Vec2>& normal,
                                  const std::vector<Vec2>& xm, const ContactSurface& Mst, Geometry g, double capture,
-                                 bool dual) {
-  const SegmentGrid grid(xm, Mst, capture);
+                                 double deep, const Approach& ahead, bool dual) {
+  const double margin = std::max(capture + ahead.bound, deep);
+  const SegmentGrid grid(xm, Mst, margin);
   std::vector<RowSums> sums(S.nodes.size());
   std::vector<int> candidates, seen;
   for (const Edge& e : S.edges) {
     const int a = S.local(e.a), b = S.local(e.b);
     const Vec2 &xa = x[e.a], &xb = x[e.b];
     // Master edges near the slave edge: the grid's candidates at points
-    // along it no farther apart than the capture distance.
+    // along it no farther apart than the search margin.
     const double L = (xb - xa).norm();
-    // (Counted in double first: a capture far below the edge cannot
+    // (Counted in double first: a margin far below the edge cannot
     // overflow the count; capture's range bounds it well below the cap.)
-    const int samples = 1 + static_cast<int>(std::min(std::ceil(L / capture), 1e8));
+    const int samples = 1 + static_cast<int>(std::min(std::ceil(L / margin), 1e8));
     seen.clear();
     for (int q = 0; q <= samples; ++q) {
       grid.candidates(xa + (xb - xa) * (double(q) / samples), candidates);
@@ -160,6 +177,17 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
     const auto gap_at = [&](double xi, double eta, const Vec2& xA, const Vec2& xB) {
       const Vec2 n = ((1 - xi) * normal[a] + xi * normal[b]).normalized();
       return (xA + eta * (xB - xA) - xa - xi * (xb - xa)).dot(n);
+    };
+    // The gap predicted at the step's end where it closes (the rows are
+    // held to it: the enforcement's g_from + dt gamma_N), the gap now where
+    // it opens.
+    const auto ahead_at = [&](double xi, double eta, int A, int B) {
+      const double now = gap_at(xi, eta, xm[A], xm[B]);
+      if (!ahead.known) return now;
+      const Vec2 n = ((1 - xi) * normal[a] + xi * normal[b]).normalized();
+      const Vec2 dm = (1 - eta) * ahead.master[A] + eta * ahead.master[B];
+      const Vec2 ds = (1 - xi) * ahead.slave[e.a] + xi * ahead.slave[e.b];
+      return now + std::min(0.0, (dm - ds).dot(n));
     };
     // The pieces of the edge: the master edges facing it within reach.
     std::vector<std::pair<int, MortarPiece>> pieces;
@@ -177,12 +205,17 @@ std::vector<RowSums> mortar_sums(const std::vector<Vec2>& x, const ContactSurfac
       // The part in the master edge's own normal slab (mortar_integrals.hpp):
       // not the shadow of a master corner.
       auto within = clip_to_slab(*piece, xa, xb, xA, xB);
-      // Within reach: the part whose gap is within +-capture, the gap taken
-      // linear along the piece. Clipped, not taken or left whole, so the
-      // integrals change continuously as the surfaces approach.
+      // Within reach: the part whose gap, predicted at the step's end
+      // where it closes, is at most capture, and whose gap now is at least
+      // -deep, each taken linear along the piece. Clipped, not taken or left
+      // whole, so the integrals change continuously as the surfaces
+      // approach.
       if (within)
         within = clip_piece(*within, gap_at(within->xi0, within->eta0, xA, xB), gap_at(within->xi1, within->eta1, xA, xB),
-                            -capture, capture);
+                            -deep, INFINITY);
+      if (within)
+        within = clip_piece(*within, ahead_at(within->xi0, within->eta0, me.a, me.b),
+                            ahead_at(within->xi1, within->eta1, me.a, me.b), -INFINITY, capture);
       if (within) pieces.emplace_back(m, *within);
     }
     // Dual weights: the basis biorthogonal to the linear functions of the
@@ -243,8 +276,28 @@ void Mortar::add_rows(const StepView& v, int iface, int s, std::vector<ContactRo
   std::vector<Vec2> xd;
   ContactSurface chords;
   if (die) die_chords(scene_.dies[f.die], v.time, kChordSagitta * f.h, xd, chords);
-  const std::vector<RowSums> sums =
-      mortar_sums(x, S, normal, die ? xd : x, die ? chords : surfaces_.side(iface, 1 - s), v.geometry, capture, dual_);
+  const ContactSurface& master = die ? chords : surfaces_.side(iface, 1 - s);
+  // The step's predicted motion: from x to x_from + dt v (in the midpoint
+  // scheme's end-of-step solve x is the step's midpoint), a die's to its
+  // place at the step's end.
+  Approach ahead;
+  if (v.moves && v.velocity && v.x_from && v.velocity->size() == x.size()) {
+    ahead.slave.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) ahead.slave[i] = (*v.x_from)[i] + v.dt * (*v.velocity)[i] - x[i];
+    if (die) {
+      const DieMotion& motion = scene_.dies[f.die].motion;
+      ahead.master.assign(xd.size(), motion.displacement(v.time_from + v.dt) - motion.displacement(v.time));
+    } else {
+      ahead.master = ahead.slave;
+    }
+    double most_s = 0, most_m = 0;
+    for (const Index k : S.nodes) most_s = std::max(most_s, ahead.slave[k].norm());
+    for (const Index k : master.nodes) most_m = std::max(most_m, ahead.master[k].norm());
+    ahead.bound = most_s + most_m;
+    ahead.known = ahead.bound > 0;
+  }
+  const std::vector<RowSums> sums = mortar_sums(x, S, normal, die ? xd : x, master, v.geometry, capture,
+                                                std::max(capture_, kDeepReach) * f.h, ahead, dual_);
   std::vector<double> w_full, h;
   surfaces_.node_sizes(x, S, v.geometry, f.h, w_full, h);
   for (std::size_t j = 0; j < S.nodes.size(); ++j) {

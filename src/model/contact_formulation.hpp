@@ -39,6 +39,11 @@ struct StepView {
   // scheme only the predictor of the next half step (the end-of-step
   // solve): contact then anticipates no landing within dt.
   bool moves = true;
+  // The velocity the solve starts from (the last solve's: the step's
+  // predicted motion), indexed like x; null, or all zero, before any solve.
+  // A treatment may look ahead with it: the rows a slave approaching
+  // within the step will need (formulations/mortar/mortar.hpp).
+  const std::vector<Vec2>* velocity = nullptr;
   const std::vector<double>* flow_stress = nullptr;  // per element, MPa (last solve)
   Geometry geometry = Geometry::Axisymmetric;
   double time = 0;  // s, at the start of the step

@@ -213,6 +213,7 @@ Solution Runner::solve(const State& st, const std::vector<Vec2>& guess, int step
   StepView sv = view(st, step, dt);
   if (from) sv.x_from = &from->x, sv.time_from = from->time;
   sv.moves = moves;
+  sv.velocity = &guess;
   const std::vector<Vec2> fext = traction_forces(scene_.mesh, st.x, scene_.geometry, scene_.tractions);
   StepProblem problem(sv, st.strain, materials_, derived_.limiting_strain_rate, fext, contact_, ws_);
   problem.set_force_floor(derived_.force_floor);

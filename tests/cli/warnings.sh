@@ -22,6 +22,14 @@ err=$("$rpfem" run "$case" --variant beta_1e-3 --out "$tmp/loose" --quiet --set 
 [ -z "$err" ] || fail "tolerance 1e-2: unexpected output: $err"
 grep -q '^    "warnings" : \[\]' "$tmp/loose/summary.json" || fail "tolerance 1e-2: warnings not empty"
 grep -q '"penetration_tolerance" *: *0.01' "$tmp/loose/summary.json" || fail "tolerance not in the parameters"
+# auglag warns of the configuration's penetration, not only of its
+# predicted end-of-step gaps (held to 1e-9): the patch test's blocks
+# starting 0.05 mm inside each other (0.05 of the element size).
+err=$("$rpfem" run "$src/cases/patch_two_blocks.toml" --formulation auglag --out "$tmp/auglag" --quiet \
+  --set bodies.upper.mesh.y0=4.95 --set stepping.end_stroke=0.1 2>&1 >/dev/null); rc=$?
+[ "$rc" -eq 0 ] || fail "auglag overlapping: exit $rc"
+echo "$err" | grep -q "^rpfem: warning: penetration unacceptable: 0.05 of the element size at step 0" ||
+  fail "auglag overlapping: no penetration warning: $err"
 # beta 1e12 x default: Newton stalls at the first solve.
 err=$("$rpfem" run "$case" --variant beta_1e12 --out "$tmp/high" --quiet 2>&1 >/dev/null); rc=$?
 [ "$rc" -eq 3 ] || fail "beta 1e12: exit $rc, expected 3"

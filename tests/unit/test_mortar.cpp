@@ -300,9 +300,9 @@ TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
   // sum_L M_jL = W_j at every configuration) and n turns about itself.
   // Checked against a central difference of the gaps of rows built anew
   // at x -+ eps v, for the patch test's interface opened by 0.1 mm
-  // (consistent weights) and by 0.05 mm (dual weights, within their reach
-  // of 0.1 of the edge length).
-  for (const auto& [weights, y0] : {std::pair{"consistent", "5.1"}, std::pair{"dual", "5.05"}}) {
+  // (consistent weights) and by 0.01 mm (dual weights, within their reach
+  // of 0.02 of the edge length, 1 to 1.43 mm).
+  for (const auto& [weights, y0] : {std::pair{"consistent", "5.1"}, std::pair{"dual", "5.01"}}) {
   SCOPED_TRACE(weights);
   CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/patch_two_blocks.toml",
                 {"contact.discretization=mortar", std::string("bodies.upper.mesh.y0=") + y0,
@@ -311,7 +311,7 @@ TEST(Mortar, WeightedGapRateIsTheGapsDerivative) {
   std::vector<Vec2> v(scene.mesh.x.size());
   for (std::size_t i = 0; i < v.size(); ++i) {
     const Vec2& p = scene.mesh.x[i];
-    const bool upper = p(1) > 5.05;
+    const bool upper = p(1) > 5.005;
     // Different stretches, shears and bending on either side, and a
     // rotation of the upper block.
     v[i] = upper ? Vec2(0.03 * p(0) - 0.01 * p(1), -0.02 * p(0) + 0.004 * p(0) * p(0) - 0.5)
