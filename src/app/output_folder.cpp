@@ -169,6 +169,13 @@ std::string summary_variant(const fs::path& dir) {
 
 }  // namespace
 
+void forget_inherited_output_folders() {
+  for (const auto& h : held()) ::close(h.fd);
+  held().clear();
+}
+
+void release_output_folders() { release_all(); }
+
 void make_output_folder(const std::string& dir, const std::string& option) {
   if (dir.empty()) throw InputError(option + ": expected a folder name, got an empty one");
   std::error_code ec;
