@@ -3,15 +3,15 @@
 // its standard output and error in a log file of its own, and answers
 // each job's exit code.
 //
-// Why a process, and why one for many runs (docs/decisions.md, "Studies of
-// thousands of runs"): a run stays out of the pool's process, so a run
-// that crashes ends its worker, not the study, and is reported with its
-// signal; but a new `rpfem run` process per run spent about 60 ms of CPU
-// in the dynamic loader alone, and a fork per run about 40 ms more than
-// the run itself (copy-on-write faults, lazy symbol binding, the HDF5
-// library's start in each child), against about 17 ms for a short run
-// after another in one process. A worker runs runs one after another, as
-// `rpfem run --variant all` does.
+// Why a process, and why one for many runs (docs/decisions.md, "The
+// local pool's runs in forked worker processes"): a run stays out of the
+// pool's process, so a run that crashes ends its worker, not the study,
+// and is reported with its signal; but a new `rpfem run` process cost
+// about 87 ms of CPU for a one-step run (57 ms of it the program's start,
+// mostly the dynamic loader), a fork per run 57 ms (copy-on-write faults,
+// lazy symbol binding, the HDF5 library's start in each child), and a run
+// after another in one process 17 ms. A worker runs its runs one after
+// another, as `rpfem run --variant all` does.
 #pragma once
 #include <sys/types.h>
 
