@@ -41,8 +41,9 @@ p.add_argument("--mesh", type=int, default=0)
 p.add_argument("--measure", metavar="DIR", help="run it end to end in DIR (emptied) and print the measurements")
 p.add_argument("--rpfem", default="build/rpfem", help="the executable (--measure)")
 p.add_argument("--jobs", type=int, default=2, help="local workers (--measure); also the overhead's worker count")
-p.add_argument("suite_args", nargs="*", help="after --: more arguments of rpfem suite")
-a = p.parse_args()
+argv = sys.argv[1:]
+extra = argv[argv.index("--") + 1:] if "--" in argv else []  # after --: more arguments of rpfem suite
+a = p.parse_args(argv[:len(argv) - len(extra) - (1 if extra or "--" in argv else 0)])
 alphas = ", ".join("%.6g" % 10 ** (2 + 4 * i / max(1, a.na - 1)) for i in range(a.na))
 increments = ", ".join("%.6g" % (0.025 + 0.025 * i / max(1, a.ni - 1)) for i in range(a.ni))
 sets = ["stepping.end_stroke=0.05"]
@@ -74,11 +75,12 @@ open(os.path.join(cases, "studies", "big.toml"), "w").write(study + "\n")
 out = os.path.join(a.measure, "out")
 cmd = ["/usr/bin/time", "-v", rpfem, "suite", "--cases", cases, "--out", out, "--jobs", str(a.jobs), "--quiet",
        "--scene", "upsetting_frictionless_axisym", "--no-variants", "--study", "big", "--no-report",
-       "--set", "stepping.end_stroke=0.05"] + a.suite_args
+       "--set", "stepping.end_stroke=0.05"] + extra
 t0 = time.monotonic()
 r = subprocess.run(cmd, capture_output=True, text=True)
 wall = time.monotonic() - t0
-peak_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", r.stderr).group(1))
+peak = re.search(r"Maximum resident set size \(kbytes\): (\d+)", r.stderr)
+peak_kb = int(peak.group(1)) if peak else -1
 t1 = time.monotonic()
 rep = subprocess.run(["/usr/bin/python3", os.path.join(src, "reports", "make_report.py"), out],
                      capture_output=True, text=True)

@@ -41,7 +41,7 @@ const std::vector<std::string>& run_files() {
 // engine.
 const std::vector<std::string>& command_files() {
   static const std::vector<std::string> names{
-      "run.log",         "exit_code",    "suite.json",      "verification.json", "report.html",
+      "run.log",         "exit_code",    "exit_code.tmp",   "suite.json",      "verification.json", "report.html",
       "report.md",       "sweep.csv",    "sweep.h5",        "sweep.json",        "evaluations.csv",
       "calibration.json"};
   return names;
