@@ -10,7 +10,6 @@
 #include "app/optimize_1d.hpp"
 #include "app/output_folder.hpp"
 #include "app/run_pool.hpp"
-#include "app/subprocess.hpp"
 #include "core/version.hpp"
 #include "io/result_writer.hpp"
 
@@ -53,7 +52,7 @@ void write_evaluations_csv(const std::string& out_dir, const std::vector<Evaluat
 }  // namespace
 
 CachedRuns::CachedRuns(RunSpec spec, Score score)
-    : spec_(std::move(spec)), score_(std::move(score)), self_(self_executable()) {
+    : spec_(std::move(spec)), score_(std::move(score)) {
   make_output_folder(spec_.out_dir);
   fs::remove_all(fs::path(spec_.out_dir) / "evals");
 }
@@ -79,7 +78,7 @@ Evaluation CachedRuns::evaluate(double value, bool* cached) {
   // One run at a time (each evaluation depends on the last): on this
   // machine directly, on Slurm as a one-task array.
   if (spec_.engine.engine == "local") {
-    run_one(run, self_);
+    run_one(run);
   } else {
     std::vector<PoolRun> one{run};
     run_runs(one, spec_.out_dir, spec_.engine, 1, true);

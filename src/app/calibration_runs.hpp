@@ -59,7 +59,6 @@ class CachedRuns {
  private:
   RunSpec spec_;
   Score score_;
-  std::string self_;
   std::vector<Evaluation> done_;
   std::map<double, std::size_t> by_value_;
   int requests_ = 0;

@@ -30,7 +30,7 @@ int set_blas_threads(int threads) {
   const auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
   const auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
   if (!set || !get) return 1;
-  set(threads);
+  if (get() != threads) set(threads);
   return get();
 }
 

@@ -17,6 +17,10 @@ std::string linked_blas();
 // (OpenBLAS: openblas_set_num_threads, found in the process at run time,
 // since the library is chosen at load time); returns the count in effect:
 // OpenBLAS's, or 1 for a BLAS without threads (Debian's reference BLAS).
+// A count already in effect is not set again: OpenBLAS's setter starts its
+// thread server where none runs (a forked child: OpenBLAS stops it before
+// every fork), and its idle thread spins on sched_yield for about 0.1 s
+// (its thread timeout), as long as a whole short run.
 int set_blas_threads(int threads);
 
 }  // namespace rpfem

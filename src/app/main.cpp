@@ -8,6 +8,7 @@
 #include "app/calibrate_command.hpp"
 #include "app/data_dir.hpp"
 #include "app/run_command.hpp"
+#include "app/subprocess.hpp"
 #include "app/suite_command.hpp"
 #include "app/sweep_command.hpp"
 #include "app/verify_command.hpp"
@@ -204,20 +205,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  try {
+  return rpfem::report_errors([&] {
     if (*run_cmd) return rpfem::run_command(run);
     if (*suite_cmd) return rpfem::suite_command(suite);
     if (*sweep_cmd) return rpfem::sweep_command(sweep);
     if (*cal_cmd) return rpfem::calibrate_command(cal);
     if (*verify_cmd) return rpfem::verify_command(verify.dir, verify.checks_file, verify.quiet);
-  } catch (const rpfem::InputError& e) {
-    std::fflush(stdout);  // what was said before the error comes first
-    std::fprintf(stderr, "rpfem: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::fprintf(stderr, "rpfem: internal error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

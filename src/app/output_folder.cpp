@@ -41,7 +41,7 @@ const std::vector<std::string>& run_files() {
 // engine.
 const std::vector<std::string>& command_files() {
   static const std::vector<std::string> names{
-      "run.log",         "exit_code",    "suite.json",      "verification.json", "report.html",
+      "run.log",         "exit_code",    "exit_code.tmp",   "suite.json",      "verification.json", "report.html",
       "report.md",       "sweep.csv",    "sweep.h5",        "sweep.json",        "evaluations.csv",
       "calibration.json"};
   return names;
@@ -168,6 +168,13 @@ std::string summary_variant(const fs::path& dir) {
 }
 
 }  // namespace
+
+void forget_inherited_output_folders() {
+  for (const auto& h : held()) ::close(h.fd);
+  held().clear();
+}
+
+void release_output_folders() { release_all(); }
 
 void make_output_folder(const std::string& dir, const std::string& option) {
   if (dir.empty()) throw InputError(option + ": expected a folder name, got an empty one");

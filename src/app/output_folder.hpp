@@ -19,6 +19,14 @@ namespace rpfem {
 // in use the pid of the process that holds it.
 void make_output_folder(const std::string& dir, const std::string& option = "--out");
 
+// In a child forked from this process (app/subprocess.hpp, run_forked):
+// the parent's folders are no longer held here (their descriptors closed,
+// their lock files left to the parent, which still holds them).
+void forget_inherited_output_folders();
+// Releases every folder this process holds (lock files removed), as its
+// normal exit does: a forked child's end, which skips the exit handlers.
+void release_output_folders();
+
 // What a command does with a folder that already holds something.
 enum class ExistingOutput {
   Refuse,   // bad input: a new or empty folder is expected (the default)

@@ -56,7 +56,8 @@ int max_array_size() {
 // The task's script: runs FIRST .. FIRST + PER - 1 (lines of commands.txt
 // from OFFSET + id * PER + 1, as many as there are) one after another, each
 // into the folder on the same line of dirs.txt, its exit code and wall time
-// into that folder's exit_code as it ends. A run that fails does not stop
+// into that folder's exit_code as it ends (written beside it and renamed:
+// the engine, polling, never reads it half written). A run that fails does not stop
 // the task's later runs; the task exits with the first nonzero exit code.
 std::string array_script(const std::string& slurm_dir, int runs_per_task) {
   const std::string q = shell_quote(slurm_dir);
@@ -74,7 +75,8 @@ std::string array_script(const std::string& slurm_dir, int runs_per_task) {
          "  bash -c \"$cmd\" > \"$dir/run.log\" 2>&1\n"
          "  rc=$?\n"
          "  t1=$(date +%s.%N)\n"
-         "  echo \"$rc $(awk \"BEGIN { print $t1 - $t0 }\")\" > \"$dir/exit_code\"\n"
+         "  echo \"$rc $(awk \"BEGIN { print $t1 - $t0 }\")\" > \"$dir/exit_code.tmp\"\n"
+         "  mv -f \"$dir/exit_code.tmp\" \"$dir/exit_code\"\n"
          "  [ $status -eq 0 ] && status=$rc\n"
          "done\n"
          "exit $status\n";
@@ -118,6 +120,7 @@ void run_slurm(std::vector<PoolRun>& runs, const std::string& work_dir, const Sl
       cmds << run_command(r, self) << "\n";
       dirs << r.dir << "\n";
       fs::remove(r.dir + "/exit_code");
+      fs::remove(r.dir + "/exit_code.tmp");
       fs::remove(r.dir + "/run.log");  // a bundled run has started when its run.log appears
     }
     sh << array_script(slurm_dir, per);

@@ -12,6 +12,9 @@
 #include <sstream>
 #include <thread>
 
+#include "app/linked_blas.hpp"
+#include "app/run_command.hpp"
+#include "app/run_worker.hpp"
 #include "app/subprocess.hpp"
 
 namespace fs = std::filesystem;
@@ -106,23 +109,51 @@ std::string run_command(const PoolRun& r, const std::string& self) {
   return cmd;
 }
 
-void run_one(PoolRun& r, const std::string& self) {
-  // The run's folder: a failure there (a full or read-only disk) is the
-  // run's, exit 2, not the pool thread's.
+namespace {
+
+// A run's folder, created here: a failure there (a full or read-only disk)
+// is the run's, exit 2, not the pool thread's.
+bool make_run_folder(PoolRun& r) {
   std::error_code ec;
   fs::create_directories(r.dir, ec);
-  if (ec) {
-    r.rc = 2, r.seconds = 0;
-    return;
-  }
-  const std::string cmd = run_command(r, self) + " > " + shell_quote(r.dir + "/run.log") + " 2>&1";
+  if (ec) r.rc = 2, r.seconds = 0;
+  return !ec;
+}
+
+// A worker process for runs[i]: `rpfem run` with the options run_command(r,
+// ...) writes, its log in the run's folder. The BLAS at one thread here
+// first, so that a run at one BLAS thread (the default) finds it so and
+// starts no thread server in the worker (linked_blas.hpp).
+RunWorker run_worker(const std::vector<PoolRun>& runs) {
+  set_blas_threads(1);
+  return RunWorker([&runs](std::size_t i) { return runs[i].dir + "/run.log"; },
+                   [&runs](std::size_t i) {
+                     const PoolRun& r = runs[i];
+                     RunOptions opt;
+                     opt.case_file = r.case_file, opt.out_dir = r.dir, opt.formulation = r.formulation;
+                     opt.variant = r.variant, opt.overrides = r.overrides;
+                     opt.quiet = opt.force = true;
+                     return run_command(opt);
+                   });
+}
+
+// Runs runs[i] on the worker: fills its rc and seconds.
+void run_on(RunWorker& worker, std::size_t i, PoolRun& result) {
+  if (!make_run_folder(result)) return;
   const auto s0 = Clock::now();
-  r.rc = run_shell(cmd);
-  r.seconds = std::chrono::duration<double>(Clock::now() - s0).count();
+  result.rc = worker.run(i);
+  result.seconds = std::chrono::duration<double>(Clock::now() - s0).count();
+}
+
+}  // namespace
+
+void run_one(PoolRun& r) {
+  std::vector<PoolRun> one{r};
+  RunWorker worker = run_worker(one);
+  run_on(worker, 0, r);
 }
 
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
-  const std::string self = self_executable();
   const int workers = std::max(1, jobs > 0 ? jobs : static_cast<int>(std::thread::hardware_concurrency()));
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
@@ -139,6 +170,7 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return runs[a].cost > runs[b].cost; });
   auto work = [&] {
+    RunWorker worker = run_worker(runs);  // started at its first run
     for (std::size_t n; (n = next++) < runs.size();) {
       const std::size_t i = order[n];
       if (kept[i]) continue;
@@ -148,7 +180,7 @@ void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {
         slots[i].running = true;
       }
       PoolRun r = runs[i];  // run outside the lock; the results copied back under it
-      run_one(r, self);
+      run_on(worker, i, r);
       std::lock_guard<std::mutex> lock(print);
       PoolRun& j = runs[i];
       j.rc = r.rc, j.seconds = r.seconds;

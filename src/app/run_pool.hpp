@@ -1,6 +1,7 @@
-// Independent `rpfem run` subprocesses of this executable on a pool of
-// workers (`rpfem suite`, `rpfem sweep`), each into its own folder with its
-// log in DIR/run.log; unless quiet, a line per finished run and, every
+// Independent runs on a pool of workers (`rpfem suite`, `rpfem sweep`),
+// each `rpfem run` in a child process of its own (a fork of this one:
+// app/subprocess.hpp, run_forked) into its own folder with its log in
+// DIR/run.log; unless quiet, a line per finished run and, every
 // 10 s, each running run's step, stroke and iterations (from its
 // history.csv) and the pool's estimated time left.
 #pragma once
@@ -22,7 +23,7 @@ struct PoolRun {
   // (estimated_cost): the pool starts the costliest first.
   double cost = 0;
   // Filled by run_pool:
-  int rc = -1;            // the run's exit code (-1: killed by a signal)
+  int rc = -1;            // the run's exit code (128 + N: ended by signal N; -1: no exit code)
   double seconds = 0;     // wall time
 };
 
@@ -55,12 +56,14 @@ struct RunClock {
 void print_progress(const std::vector<PoolRun>& runs, const std::vector<RunClock>& clocks, int workers,
                     double elapsed);
 
-// The exact `rpfem run` command line of a run (the executable `self`).
+// The exact `rpfem run` command line of a run (the executable `self`):
+// what a Slurm task runs.
 std::string run_command(const PoolRun& r, const std::string& self);
 
-// One `rpfem run` of the executable `self` into r.dir (created; its log in
-// r.dir/run.log): fills r.rc and r.seconds. The pool's worker, and
-// `rpfem calibrate`'s evaluations.
-void run_one(PoolRun& r, const std::string& self);
+// One `rpfem run` into r.dir (created; its log in r.dir/run.log) in a
+// child process forked from this one, the options run_command(r, ...)
+// writes: fills r.rc and r.seconds. The pool's worker, and `rpfem
+// calibrate`'s evaluations.
+void run_one(PoolRun& r);
 
 }  // namespace rpfem

@@ -1,11 +1,14 @@
 #include "app/subprocess.hpp"
 
+#include <sys/wait.h>
+
 #include <array>
 #include <cstdio>
 #include <cstdlib>
-#include <stdexcept>
 #include <filesystem>
-#include <sys/wait.h>
+#include <stdexcept>
+
+#include "core/types.hpp"
 
 namespace rpfem {
 
@@ -31,6 +34,20 @@ std::string capture_shell(const std::string& command_line, int* rc) {
   const int status = pclose(p);
   if (rc) *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return out;
+}
+
+int report_errors(const std::function<int()>& command) {
+  try {
+    return command();
+  } catch (const InputError& e) {
+    std::fflush(stdout);  // what was said before the error comes first
+    std::fprintf(stderr, "rpfem: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "rpfem: internal error: %s\n", e.what());
+    return 1;
+  }
 }
 
 }  // namespace rpfem

@@ -107,7 +107,7 @@ double achieved_against(const History& run, const History& ref, const std::strin
 TEST(StepControl, EulerUpsettingMeetsTheTolerance) {
   double last = INFINITY;
   for (double tol : {1e-2, 1e-3, 1e-4}) {
-    const Achieved a = upsetting_at(tol, "euler", "_" + std::to_string(tol));
+    const Achieved a = upsetting_at(tol, "euler", std::string("_").append(std::to_string(tol)));
     std::printf("[measured] tolerance %.0e: achieved %.3e (ratio %.2f) in %d steps\n", tol, a.error, a.error / tol,
                 a.steps);
     EXPECT_GT(a.error, tol / 3) << tol;
@@ -136,7 +136,7 @@ TEST(StepControl, EulerRingMeetsTheTolerance) {
     std::snprintf(extra, sizeof extra,
                   "--set stepping.tolerance=%g --set stepping.integration=euler --set stepping.output_every=100000",
                   tol);
-    const std::string dir = run_case("ring_compression", extra, 0, "_" + std::to_string(tol));
+    const std::string dir = run_case("ring_compression", extra, 0, std::string("_").append(std::to_string(tol)));
     const History h = read_history(dir + "/history.csv");
     EXPECT_NEAR(h.at("stroke").back(), 5.0, 1e-9);
     const double a = achieved_against(h, ref, "top_die.Fy");

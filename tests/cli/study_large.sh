@@ -6,9 +6,9 @@
 # back in h5py (every column's 1,040 rows; the metadata JSON, beyond the
 # 64 kB an attribute in its object's header can hold, whole), and the
 # report: the study summarized (axes, aggregates, the grid figure), not a
-# row per run. Prints its measured wall times: 112 s at a load of about 4
-# on 2 cores (a run's process 0.08 s, 0.02 s of it the run's own), 613 s at
-# a load of about 20.
+# row per run. Prints its measured wall time: 17.6 s of CPU and 57.1 s
+# wall at a load of about 10 on 2 cores (farm-bench median of 3; with a
+# process per run 114.9 s and 243.6 s), 25.3 s wall at a load of about 8.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
