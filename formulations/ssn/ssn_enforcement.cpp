@@ -19,6 +19,7 @@ SsnSettings read_settings(const Scene& scene, CaseSection& s) {
   out.lu = scene.solver.lu;
   out.speed_scale = scene.largest_speed();
   out.condense = s.flag("condense", true);
+  out.augmented = s.flag("augmented", true);
   out.c_normal = s.real("c_normal", 1.0, Range::positive(), "times sigma_ref w / v_ref: the normal function's c_N");
   out.c_tangential = s.real("c_tangential", 0.1, Range::positive(), "times sigma_ref w / v_ref: the friction function's c_T");
   return out;
@@ -120,6 +121,7 @@ void SsnEnforcement::measure(const StepView& v) {
   step_stats_.iterations += solve.iterations;
   step_stats_.set_changes += solve.set_changes;
   step_stats_.condensed += solve.condensed;
+  step_stats_.augmented += solve.augmented;
   stick_ = slip_ = 0;
   double total = 0;
   for (const SsnRowState& s : state_) total += std::max(s.lambda_n, 0.0);
@@ -159,6 +161,7 @@ void SsnEnforcement::columns(std::vector<NamedValue>& out) const {
   out.push_back({"ssn_iterations", double(s.iterations)});
   out.push_back({"ssn_set_changes", double(s.set_changes)});
   out.push_back({"ssn_condensed", double(s.condensed)});
+  out.push_back({"ssn_augmented", double(s.augmented)});
   out.push_back({"stick_rows", double(stick_)});
   out.push_back({"slip_rows", double(slip_)});
   out.push_back({"kkt_primal", primal_});
@@ -172,6 +175,7 @@ void SsnEnforcement::derived(std::vector<NamedValue>& out) const {
   out.push_back({"ssn.c_normal", s.c_normal});
   out.push_back({"ssn.c_tangential", s.c_tangential});
   out.push_back({"ssn.condense", s.condense ? 1.0 : 0.0});
+  out.push_back({"ssn.augmented", s.augmented ? 1.0 : 0.0});
   out.push_back({"ssn.speed_scale_mm_s", speed_scale()});
 }
 

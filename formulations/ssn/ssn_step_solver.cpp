@@ -9,10 +9,8 @@
 
 namespace rpfem {
 
-namespace {
-
 // The hash of a sparse matrix's pattern (FNV-1a over its index arrays).
-std::uint64_t pattern_hash(const SpMat& A) {
+std::uint64_t SsnStepSolver::pattern_hash(const SpMat& A) {
   std::uint64_t h = 1469598103934665603ull;
   auto mix = [&h](std::uint64_t x) { h = (h ^ x) * 1099511628211ull; };
   mix(static_cast<std::uint64_t>(A.rows()));
@@ -20,6 +18,8 @@ std::uint64_t pattern_hash(const SpMat& A) {
   for (Eigen::Index k = 0; k < A.nonZeros(); ++k) mix(static_cast<std::uint64_t>(A.innerIndexPtr()[k]));
   return h;
 }
+
+namespace {
 
 // Gap and slip rates whose weights' Gram determinant is below this
 // fraction of |a_N|^2 |a_T|^2 move along one direction.
@@ -53,7 +53,9 @@ constexpr double kGrazingTolerance = 1e-9;
 }  // namespace
 
 SsnStepSolver::SsnStepSolver(SsnSettings s)
-    : s_(s), lu_(LinearSolverChoice::Lu, CholeskyMode::Supernodal, s.lu), cholesky_(LinearSolverChoice::Cholmod) {}
+    : s_(s), lu_(LinearSolverChoice::Lu, CholeskyMode::Supernodal, s.lu),
+      cholesky_(LinearSolverChoice::Cholmod),
+      augmented_cholesky_(LinearSolverChoice::Cholmod) {}
 
 void SsnStepSolver::reduce_rows(const StepView& v, const StepProblem& problem) {
   // r = gamma_N + g_from / dt and gamma_T with v_a = T_a u_a + p_a.
@@ -378,6 +380,7 @@ bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
 
 bool SsnStepSolver::newton_step(const SpMat& K, const Iterate& it, Vec& dx) {
   if (condensable(it)) return condensed_step(K, it, dx);
+  if (s_.augmented && augmented_step(K, it, dx)) return true;
   const SpMat J = jacobian(K, it);
   // Every row's entries are in J's pattern, and K's is fixed within a
   // solve: hashed at its first step.
@@ -403,7 +406,7 @@ void SsnStepSolver::start(const StepView& v, const StepProblem& problem) {
   flips_.assign(m, 0);
   normal_flips_.assign(m, 0);
   reholds_.assign(m, 0);
-  saddle_hashed_ = condensed_hashed_ = false;
+  saddle_hashed_ = condensed_hashed_ = augmented_hashed_ = false;
 }
 
 SpMat SsnStepSolver::system(const StepView& v, StepProblem& problem, const Vec& x, Vec& F) {

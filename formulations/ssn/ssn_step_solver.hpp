@@ -64,6 +64,7 @@ struct SsnSettings {
   LuMode lu = LuMode::Auto;
   double speed_scale = 1;  // mm/s: the scene's largest prescribed speed
   bool condense = true;    // formulations.ssn.condense
+  bool augmented = true;   // formulations.ssn.augmented
 };
 
 // The row state the enforcement keeps between solves and reads after one.
@@ -81,6 +82,7 @@ struct SsnSolveStats {
   int holds = 0;  // rows held on their branch after cycling
   int grazing = 0;  // rows ending grazing
   int condensed = 0;  // Newton steps solved with the rows condensed
+  int augmented = 0;  // Newton steps solved by the augmented Lagrangian on K
   int rows = 0;  // rows in the solve
   double factor_seconds = 0;
 };
@@ -161,6 +163,12 @@ class SsnStepSolver final : public StepSolver {
   // Newton step with them condensed.
   bool condensable(const Iterate& it) const;
   bool condensed_step(const SpMat& K, const Iterate& it, Vec& dx);
+  // The Newton step by the augmented Lagrangian on K where every row's
+  // functions are an equation on du or on its own multiplier
+  // (ssn_augmented_step.cpp); false where they are not, or it fails.
+  bool augmented_step(const SpMat& K, const Iterate& it, Vec& dx);
+  // The hash of a sparse matrix's pattern (FNV-1a over its index arrays).
+  static std::uint64_t pattern_hash(const SpMat& A);
   // A = Q^T A Q in place, Q the rotation of the dofs of row_of's rows to
   // their (n, t) frames (condensed_step); false where the pattern does not
   // allow it.
@@ -187,9 +195,10 @@ class SsnStepSolver final : public StepSolver {
   // the last set update.
   std::vector<char> shared_;
   std::vector<std::optional<RowNcp>> held_;
-  LinearSolver lu_, cholesky_;
+  LinearSolver lu_, cholesky_, augmented_cholesky_;
   std::uint64_t condensed_hash_ = 0, condensed_version_ = 0;
-  bool saddle_hashed_ = false, condensed_hashed_ = false;  // in this solve
+  bool saddle_hashed_ = false, condensed_hashed_ = false, augmented_hashed_ = false;  // in this solve
+  std::uint64_t augmented_hash_ = 0, augmented_version_ = 0;
   std::uint64_t pattern_hash_ = 0, pattern_version_ = 0;
   SsnSolveStats stats_;
 };

@@ -784,6 +784,31 @@ TEST(Conformance, SsnCondensedRowsGiveTheSaddlePointSystemsSolution) {
   }
 }
 
+// Rows between bodies (two blocks, the friction factor: open, sticking
+// and slipping rows) solved by the augmented Lagrangian on K give the
+// saddle-point system's LU loads to the solves' tolerance, and the path is
+// taken (a count of none fails).
+TEST(Conformance, SsnAugmentedStepsGiveTheSaddlePointSystemsSolution) {
+  for (const std::string law : {"none", "factor"}) {
+    const std::string text =
+        law == "none" ? std::string(kTwoBlocks) : std::string(kTwoBlocks) + "[contact_pairs.friction]\n" + friction_keys(law);
+    ContactRun on(text, "ssn", "", {"formulations.ssn.augmented=true", "formulations.ssn.condense=false"});
+    ContactRun off(text, "ssn", "", {"formulations.ssn.augmented=false", "formulations.ssn.condense=false"});
+    ASSERT_TRUE(on.outcome.finished && off.outcome.finished) << law;
+    ASSERT_EQ(on.out.steps.size(), off.out.steps.size());
+    for (std::size_t k = 1; k < on.out.steps.size(); ++k) {
+      const double a = on.out.load("top", k)(1), b = off.out.load("top", k)(1);
+      EXPECT_NEAR(a, b, 1e-8 * std::abs(b)) << law << " step " << k;
+    }
+    const ContactInfo info = on.contact->info();
+    const auto col = std::find(info.column_names.begin(), info.column_names.end(), "ssn_augmented");
+    ASSERT_NE(col, info.column_names.end());
+    double augmented = 0;
+    for (const auto& s : on.out.steps) augmented += s.contact_report[col - info.column_names.begin()];
+    EXPECT_GT(augmented, 0) << law;
+  }
+}
+
 // ssn's own iteration count is the step's: under the midpoint scheme the
 // half-step solve's and the end solve's together, as the step's Newton
 // iterations count them (a count of the last solve only fails).
