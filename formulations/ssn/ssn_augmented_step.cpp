@@ -18,6 +18,7 @@
 // lambda_N and r) and grazing rows keep the LU.
 #include "ssn/ssn_step_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/timing.hpp"
@@ -48,7 +49,7 @@ bool SsnStepSolver::augmented_step(const SpMat& K, const Iterate& it, Vec& dx) {
   const Index n = K.rows();
   const std::size_t m = red_.size();
   if (m == 0) return false;
-  const Vec F = it.F;
+  const Vec& F = it.F;
   std::vector<RowFunction> f(2 * m);
   for (std::size_t j = 0; j < m; ++j) {
     const RowNcp& q = it.ncp[j];
@@ -68,10 +69,9 @@ bool SsnStepSolver::augmented_step(const SpMat& K, const Iterate& it, Vec& dx) {
   ScopedSeconds timing(stats_.factor_seconds);
   // b = -F_u + A_X^T dl_X; M = K + rho A_E^T A_E.
   Vec b = -F.head(n);
-  double diag = 0, norm2 = 0;
+  const double diag = K.diagonal().mean();
+  double norm2 = 0;
   int equalities = 0;
-  for (Index i = 0; i < n; ++i) diag += K.coeff(i, i);
-  diag /= std::max<Index>(n, 1);
   for (const RowFunction& r : f) {
     if (!r.equality) {
       for (const auto& [d, w] : *r.a) b[d] += w * r.value;
@@ -82,12 +82,14 @@ bool SsnStepSolver::augmented_step(const SpMat& K, const Iterate& it, Vec& dx) {
   }
   if (equalities == 0 || !(norm2 > 0) || !(diag > 0)) return false;
   const double rho = kRho * diag / (norm2 / equalities);
+  // Every row's entries are in M's pattern whatever its set (zeros kept),
+  // so the pattern, hashed at the solve's first step, holds over it.
   SpMat M = K;
   for (const RowFunction& r : f) {
-    if (!r.equality) continue;
+    const double scale = r.equality ? rho : 0.0;
     for (const auto& [d1, w1] : *r.a) {
-      b[d1] += rho * w1 * r.value;
-      for (const auto& [d2, w2] : *r.a) M.coeffRef(d1, d2) += rho * w1 * w2;
+      b[d1] += scale * w1 * r.value;
+      for (const auto& [d2, w2] : *r.a) M.coeffRef(d1, d2) += scale * w1 * w2;
     }
   }
   if (!augmented_hashed_) {

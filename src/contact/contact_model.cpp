@@ -155,8 +155,8 @@ void ContactModel::take_over_rows(const StepView& v) {
     const ContactZones::Traction* best = nullptr;
     double d = r.h;
     for (const auto& t : samples->second) {
-      const double dt = (t.at - p).norm();
-      if (dt <= d) d = dt, best = &t;
+      const double dist = (t.at - p).norm();
+      if (dist <= d) d = dist, best = &t;
     }
     if (!best) continue;
     const Vec2 tangent(-r.kin.n(1), r.kin.n(0));

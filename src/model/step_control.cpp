@@ -26,7 +26,7 @@ double step_error_estimate(const Mesh& m, Geometry g, const std::vector<Vec2>& x
                            const std::vector<std::array<double, 4>>& eps,
                            const std::vector<std::array<double, 4>>& rate0,
                            const std::vector<std::array<double, 4>>& rate_half,
-                           const std::vector<const FlowStressLaw*>& law, double length) {
+                           const std::vector<ElementMaterial>& material, double length) {
   double motion = 0;
   for (std::size_t i = 0; i < v0.size(); ++i) motion = std::max(motion, dt * (v_half[i] - v0[i]).norm() / length);
   // The flow stress times the volume summed over the elements, a load's
@@ -37,8 +37,8 @@ double step_error_estimate(const Mesh& m, Geometry g, const std::vector<Vec2>& x
     const double vm = moved_volume(m, g, x, dt, v_half, k), ve = moved_volume(m, g, x, dt, v0, k);
     double sm_mean = 0, ds_mean = 0;
     for (int q = 0; q < 4; ++q) {
-      const double sm = law[k]->yield(eps[k][q] + dt * rate_half[k][q]);
-      const double se = law[k]->yield(eps[k][q] + dt * rate0[k][q]);
+      const double sm = material[k].law->yield(eps[k][q] + dt * rate_half[k][q]);
+      const double se = material[k].law->yield(eps[k][q] + dt * rate0[k][q]);
       sm_mean += 0.25 * sm, ds_mean += 0.25 * std::abs(sm - se);
     }
     err += ds_mean * vm + sm_mean * std::abs(vm - ve);

@@ -37,8 +37,8 @@
 #include <vector>
 
 #include "core/types.hpp"
-#include "material/flow_stress.hpp"
 #include "mesh/mesh.hpp"
+#include "model/element_material.hpp"
 
 namespace rpfem {
 
@@ -53,13 +53,13 @@ struct StepControlFactors {
 // Estimate (1). x: the start's coordinates (mm) on mesh m; dt: the step's
 // length (s); v0, v_half: the start's and the half step's velocity (mm/s);
 // eps: the start's strain at the 2x2 points, rate0, rate_half the rates
-// there; law[e]: element e's flow stress law; length: L (mm).
+// there; material[e]: element e's (its flow stress law); length: L (mm).
 double step_error_estimate(const Mesh& m, Geometry g, const std::vector<Vec2>& x, double dt,
                            const std::vector<Vec2>& v0, const std::vector<Vec2>& v_half,
                            const std::vector<std::array<double, 4>>& eps,
                            const std::vector<std::array<double, 4>>& rate0,
                            const std::vector<std::array<double, 4>>& rate_half,
-                           const std::vector<const FlowStressLaw*>& law, double length);
+                           const std::vector<ElementMaterial>& material, double length);
 
 // The bound of the estimate for a step of increment ds (mm): tol ds / S.
 inline double step_error_bound(double tolerance, double ds, double end_stroke) { return tolerance * ds / end_stroke; }

@@ -15,15 +15,10 @@
 #include "la/linear_solver.hpp"
 #include "la/sparse_assembler.hpp"
 #include "model/contact_formulation.hpp"
+#include "model/element_material.hpp"
 #include "solver/newton.hpp"
 
 namespace rpfem {
-
-struct ElementMaterial {
-  const FlowStressLaw* law = nullptr;
-  double alpha = 0;           // volumetric penalty, MPa s
-  double regularization = 0;  // s, see RigidPlasticInput::regularization
-};
 
 // Persists across steps so the pattern and symbolic factorization are reused.
 struct SolverWorkspace {

@@ -156,7 +156,6 @@ class Runner {
   KernelConstraints bc_;
   DerivedParameters derived_;
   std::vector<ElementMaterial> materials_;
-  std::vector<const FlowStressLaw*> laws_;  // per element, materials_' laws
   std::vector<double> flow_stress_;
   RunOutcome out_;
   // For the warnings: where the least rcond was met; the steps solved only
@@ -531,8 +530,6 @@ void Runner::set_up() {
     const int b = mesh.element_body[e];
     materials_[e] = {&scene_.bodies[b].law, derived_.alpha[b], derived_.regularization};
   }
-  laws_.resize(mesh.num_elements());
-  for (Index e = 0; e < mesh.num_elements(); ++e) laws_[e] = materials_[e].law;
   flow_stress_.assign(mesh.num_elements(), 0.0);
   for (Index e = 0; e < mesh.num_elements(); ++e) flow_stress_[e] = materials_[e].law->yield(0.0);
   derived_.dt_nominal = scene_.stepping.stroke_increment / derived_.reference_speed;
@@ -594,7 +591,7 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
     if (midpoint) mover = &mid;
     if (control)
       out.estimate = step_error_estimate(scene_.mesh, scene_.geometry, st.x, dt, sol.v, mid.v, st.strain, sol.rate,
-                                         mid.rate, laws_, derived_.reference_length);
+                                         mid.rate, materials_, derived_.reference_length);
   }
   out.next = advance(st, *mover, dt);
   StepView moved = view(st, step, dt);

@@ -19,7 +19,7 @@ struct OneElement {
   std::vector<std::array<double, 4>> eps{{0.1, 0.1, 0.1, 0.1}}, rate{{1, 1, 1, 1}};
   double estimate(double dt, const std::vector<Vec2>& v0, const std::vector<Vec2>& vh, double L,
                   const std::vector<std::array<double, 4>>& rh) const {
-    return step_error_estimate(m, Geometry::PlaneStrain, m.x, dt, v0, vh, eps, rate, rh, {&law}, L);
+    return step_error_estimate(m, Geometry::PlaneStrain, m.x, dt, v0, vh, eps, rate, rh, {{&law}}, L);
   }
 };
 }  // namespace
@@ -82,7 +82,7 @@ TEST(StepControl, EstimateWeightsTheElements) {
   std::vector<std::array<double, 4>> rh = r0;
   rh[0] = {1.2, 1.2, 1.2, 1.2};
   const double dt = 0.1;
-  const double e = step_error_estimate(m, Geometry::PlaneStrain, m.x, dt, v, v, eps, r0, rh, {&law, &law}, 1.0);
+  const double e = step_error_estimate(m, Geometry::PlaneStrain, m.x, dt, v, v, eps, r0, rh, {{&law}, {&law}}, 1.0);
   const double s20 = law.yield(0.2), s22 = law.yield(0.22);
   EXPECT_NEAR(e, (s22 - s20) / (s22 + s20), 1e-14);
 }
