@@ -120,9 +120,14 @@ void SsnStepSolver::rows(const StepView& v, Iterate& it, const Iterate* branch, 
   if (!branch) {
     // The active set first: the friction bounds depend on it (contact
     // areas); on a kept branch they are the branch's.
+    // A row held grazing touches at zero force: its area counts whether
+    // held or not (the check of the sets a held solution asks for, where
+    // its force's round-off sign would otherwise halve its neighbours'
+    // areas and bounds and send them slipping).
     std::fill(active_rows_.begin(), active_rows_.end(), 0);
     for (std::size_t j = 0; j < m; ++j)
-      active_rows_[red_[j].row] = hold && held_[j] ? held_[j]->active : it.ln[j] - red_[j].cn * r[j] > 0;
+      active_rows_[red_[j].row] = held_[j] && (hold || held_[j]->grazing) ? held_[j]->active
+                                                                         : it.ln[j] - red_[j].cn * r[j] > 0;
     frictions_(v, active_rows_, friction_);
     // A node in contact with two dies (both rows active): neither row
     // sticks with a force (ncp.hpp, may_stick).
@@ -475,6 +480,19 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     if (x.ln[j] > 0 && tt > 0) x.lt[j] = ft / tt;
   }
   rows(v, x, nullptr, true);
+  // A row that slipped in its last solve starts at its present bound: the
+  // bound grows with the contact area (k w) or the pressure (Coulomb), so
+  // the last force, at the last bound, lies inside the present one and
+  // read as sticking, which the first Newton step then takes back
+  // (the ring at m = 1: 7 of 25 rows a solve).
+  bool rescaled = false;
+  for (std::size_t j = 0; j < m; ++j) {
+    const SsnRowState& st = (*state_)[red_[j].row];
+    if (!st.active || st.stick || st.grazing || !x.ncp[j].active || x.lt[j] == 0) continue;
+    x.lt[j] = std::copysign(x.ncp[j].g, x.lt[j]);
+    rescaled = true;
+  }
+  if (rescaled) rows(v, x, nullptr, true);
   if (hold_start_) {
     for (std::size_t j = 0; j < m; ++j) held_[j] = x.ncp[j], held_[j]->grazing = false;
     hold_start_ = false;
