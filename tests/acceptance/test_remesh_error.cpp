@@ -179,3 +179,37 @@ TEST(RemeshError, SizedByTheErrorFinerAtThePunchEdgeAndMeetsTheTarget) {
   std::printf("[measured] over the stroke from 0.6 mm: sized %.4f with %.0f elements, uniform %.4f with %.0f\n",
               error_sized, count_sized, error_uniform, count_uniform);
 }
+
+//~ feature = "remeshing"
+//~ scene = "backward_extrusion_cup (direct) to 0.05 mm, remesh.initial_mesh = true, die_corner_size = 1: target_error = 0.05 against none"
+//~ source = "Li and Bettess 1995 (the size rule), on the error of a first solve on the case's mesh"
+//~ [[check]]
+//~ what = "initial mesh: mean element size within 1 mm of the punch's edge (6.5, 12) over the median size, sized against uniform"
+//~ compares = "the same scene run otherwise"
+//~ tolerance = "< 0.6 sized; > 0.75 uniform"
+//~ why = "step 0's largest errors lie where the punch's flat face ends (measured 0.31 sized); without a target the initial mesh is uniform"
+TEST(RemeshError, InitialMeshSizedByTheFirstSolvesError) {
+  const std::string common = "--set stepping.end_stroke=0.05 --set remesh.initial_mesh=true "
+                             "--set remesh.die_corner_size=1.0";
+  const std::string sized = run_case("backward_extrusion_cup", common + " --set remesh.target_error=0.05", 0, "_sized");
+  const std::string uniform = run_case("backward_extrusion_cup", common, 0, "_uniform");
+  for (const std::string& dir : {sized, uniform}) {
+    EXPECT_TRUE(run_finished(dir)) << dir;
+    const Elements m = elements(dir + "/result.h5", "/mesh", "/mesh/initial_coordinates");
+    std::vector<double> sorted = m.size;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    double near = 0;
+    int count = 0;
+    for (std::size_t e = 0; e < m.size.size(); ++e)
+      if ((m.centre[e] - Vec2(6.5, 12.0)).norm() < 1.0) near += m.size[e], ++count;
+    const double ratio = near / std::max(count, 1) / sorted[sorted.size() / 2];
+    if (dir == sized)
+      EXPECT_LT(ratio, 0.6);
+    else
+      EXPECT_GT(ratio, 0.75);
+    const History h = read_history(dir + "/history.csv");
+    std::printf("[measured] initial mesh %s: %zu elements, sizes at the punch's edge %.2f of the median; step 0's "
+                "estimate %.4f\n",
+                dir == sized ? "sized" : "uniform", m.size.size(), ratio, h.at("strain_rate_error")[0]);
+  }
+}
