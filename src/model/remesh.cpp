@@ -7,9 +7,9 @@
 
 #include "fem/quad4.hpp"
 #include "mesh/field_transfer.hpp"
-#include "model/error_size_field.hpp"
 #include "mesh/outline_mesher.hpp"
 #include "mesh/polygon.hpp"
+#include "model/error_size_field.hpp"
 
 namespace rpfem {
 
@@ -102,12 +102,12 @@ std::function<double(const Vec2&)> corner_field(const Scene& scene, const BodyPa
 // the part (a state not solved) the grading alone, as without a target.
 std::function<double(const Vec2&)> size_field(const Scene& scene, const BodyPart& p, double t, double size,
                                               const RemeshRequest& request) {
-  if (!(request.target_error > 0) || p.rate.size() != p.strain.size())
-    return corner_field(scene, p, t, size, request.die_corner_size, 1.0);
-  const ErrorSizes sizes = error_sizes(p.mesh, p.mesh.x, p.rate, scene.geometry,
-                                       {request.target_error, request.min_size * size, request.max_size * size});
+  ErrorSizes sizes;  // its `at` empty also where the rate is zero everywhere
+  if (request.target_error > 0 && p.rate.size() == p.strain.size())
+    sizes = error_sizes(p.mesh, p.mesh.x, p.rate, scene.geometry,
+                        {request.target_error, request.min_size * size, request.max_size * size});
+  if (!sizes.at) return corner_field(scene, p, t, size, request.die_corner_size, 1.0);
   const auto corner = corner_field(scene, p, t, size, request.die_corner_size, request.max_size);
-  if (!sizes.at) return corner;
   if (!corner) return sizes.at;
   return [corner, at = sizes.at](const Vec2& x) { return std::min(corner(x), at(x)); };
 }
