@@ -223,7 +223,13 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
 }
 
 void RunObserver::on_resumed(const StepRecord& r) {
-  if (remeshes_.empty() || r.step != last_step_ || r.loads.empty() || last_.loads.empty()) return;
+  if (remeshes_.empty() || r.step != last_step_) return;
+  // The strain-rate error estimate at the remesh's configuration on the
+  // old mesh and on the new one (remesh.target_error aims at the latter).
+  remeshes_.back().as_table()->insert_or_assign("strain_rate_error_before", last_.strain_rate_error_relative);
+  remeshes_.back().as_table()->insert_or_assign("strain_rate_error_after", r.strain_rate_error_relative);
+  summary_.insert_or_assign("remeshes", remeshes_);
+  if (r.loads.empty() || last_.loads.empty()) return;
   const std::size_t k = press_load();
   const Vec2 before = last_.loads[k];
   // Signed: positive where the new mesh carries the larger load.

@@ -33,6 +33,7 @@ StrainRateError strain_rate_error(const Mesh& m, const std::vector<Vec2>& x,
     out.element_eta[e] = std::sqrt(eta2);
     out.element_rms[e] = vol > 0 ? std::sqrt(eta2 / vol) : 0.0;
   }
+  out.rate_norm = std::sqrt(ref2);
   out.relative = ref2 > 0 ? std::sqrt(err2 / ref2) : 0.0;
   return out;
 }

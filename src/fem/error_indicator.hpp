@@ -28,6 +28,7 @@ struct StrainRateError {
   std::vector<double> element_eta;  // eta_e per element (1/s mm^(3/2), per mm of
                                     // depth in plane strain)
   double relative = 0;              // eta / ||epsdot_h||_L2 (0 where the rate is zero everywhere)
+  double rate_norm = 0;             // ||epsdot_h||_L2 (1/s mm^(3/2), as element_eta)
 };
 
 // rate: the effective strain rate at the 2x2 points of each element of m

@@ -513,6 +513,18 @@ void read_remesh(CaseSection r, Scene& sc) {
   m.die_corner_size = r.real("die_corner_size", 0.25, {0.05, 1, false, false},
                              "share of element_size at a die's corner near the body (1: uniform)");
   m.initial_mesh = r.flag("initial_mesh", false);
+  m.target_error = r.real("target_error", 0.0, {0, 1, false, true},
+                          "target relative strain-rate error of the remeshed bodies (0: off)");
+  if (m.target_error > 0) {
+    m.min_size = r.real("min_size", 0.2, {0.01, 1, false, false}, "share of element_size, from 0.01 to 1");
+    m.max_size = r.real("max_size", 2.0, {m.min_size, 100, false, false},
+                        "share of element_size, from remesh.min_size to 100");
+  } else {
+    for (const char* k : {"min_size", "max_size"})
+      if (r.has(k))
+        r.fail(k, std::string("expected a remesh.target_error above 0 where remesh.") + k +
+                      " is given (the bounds of the size from the error)");
+  }
   m.volume_tolerance = r.real("volume_tolerance", 1e-8, {0, 1e-3, false, false},
                               "share of a body's volume its outline's simplification may change per remesh");
   // Which bodies: the names listed, else every body but a virtual rigid one

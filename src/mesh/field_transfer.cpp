@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "fem/quad4.hpp"
 
@@ -174,6 +175,22 @@ std::vector<Vec2> transfer_nodal_field(const Mesh& old_mesh, const std::vector<V
   for (std::size_t i = 0; i < points.size(); ++i)
     out[i] = interpolate(old_mesh, values, locate(old_mesh, old_x, grid, points[i]));
   return out;
+}
+
+std::function<double(const Vec2&)> nodal_field(const Mesh& m, const std::vector<Vec2>& x,
+                                               const std::vector<double>& values) {
+  struct Held {
+    Mesh mesh;
+    std::vector<Vec2> x;
+    std::vector<double> values;
+    ElementGrid grid;
+  };
+  Mesh quads;
+  quads.quads = m.quads;
+  auto held = std::make_shared<const Held>(Held{quads, x, values, ElementGrid(m, x)});
+  return [held](const Vec2& p) {
+    return interpolate(held->mesh, held->values, locate(held->mesh, held->x, held->grid, p));
+  };
 }
 
 }  // namespace rpfem

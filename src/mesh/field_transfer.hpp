@@ -15,6 +15,7 @@
 // the field's integral and maximum at each remesh.
 #pragma once
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -37,5 +38,11 @@ std::vector<GaussValues> transfer_gauss_field(const Mesh& old_mesh, const std::v
 // old element that holds each (the nearest, outside every one).
 std::vector<Vec2> transfer_nodal_field(const Mesh& old_mesh, const std::vector<Vec2>& old_x,
                                        const std::vector<Vec2>& values, const std::vector<Vec2>& points);
+
+// A nodal scalar field of a mesh as a function of the point: interpolated
+// in the element that holds it (the nearest, outside every one). The
+// function keeps its own copy of the mesh, coordinates and values.
+std::function<double(const Vec2&)> nodal_field(const Mesh& m, const std::vector<Vec2>& x,
+                                               const std::vector<double>& values);
 
 }  // namespace rpfem

@@ -9,6 +9,7 @@
 #include "mesh/field_transfer.hpp"
 #include "mesh/outline_mesher.hpp"
 #include "mesh/polygon.hpp"
+#include "model/error_size_field.hpp"
 
 namespace rpfem {
 
@@ -18,7 +19,7 @@ namespace {
 // fields on it: its nodes and elements renumbered in order.
 struct BodyPart {
   Mesh mesh;
-  std::vector<GaussValues> strain;
+  std::vector<GaussValues> strain, rate;  // rate: empty where the state has none
   std::vector<Vec2> v;
   std::vector<Index> node;  // per node of the whole mesh: its node in the part (-1: another body's)
 };
@@ -41,6 +42,7 @@ BodyPart body_part(const Mesh& m, const RunState& st, int body) {
       for (Index& n : q) n = node[n];
       p.mesh.quads.push_back(q);
       p.strain.push_back(st.strain[e]);
+      if (st.rate.size() == st.strain.size()) p.rate.push_back(st.rate[e]);
     }
   const std::string& name = m.body_names[body];
   p.mesh.body_names = {name};
@@ -73,9 +75,10 @@ Totals totals(const Mesh& m, const std::vector<Vec2>& x, const std::vector<Gauss
 
 // The target size at a point of body part p: `size`, falling to
 // size * share at the dies' corners near the body (request.die_corner_size),
-// linearly in the distance to the nearest over 4 sizes.
-std::function<double(const Vec2&)> size_field(const Scene& scene, const BodyPart& p, double t, double size,
-                                              double share) {
+// linearly in the distance to the nearest over 4 sizes; at most size * far
+// (1: `size` beyond 4 sizes).
+std::function<double(const Vec2&)> corner_field(const Scene& scene, const BodyPart& p, double t, double size,
+                                                double share, double far) {
   if (share >= 1) return {};
   std::vector<Vec2> near;
   const auto& outline = p.mesh.sides.at(p.mesh.body_names[0] + ".boundary");
@@ -86,11 +89,27 @@ std::function<double(const Vec2&)> size_field(const Scene& scene, const BodyPart
       if (d <= size) near.push_back(c);
     }
   if (near.empty()) return {};
-  return [near, size, share](const Vec2& x) {
+  return [near, size, share, far](const Vec2& x) {
     double d = std::numeric_limits<double>::infinity();
     for (const Vec2& c : near) d = std::min(d, (x - c).norm());
-    return size * std::min(1.0, share + (1 - share) * d / (4 * size));
+    return size * std::min(far, share + (1 - share) * d / (4 * size));
   };
+}
+
+// The size field of body part p: the dies' corners' grading, and with
+// request.target_error the size from the old mesh's error
+// (model/error_size_field.hpp), the smaller of the two. Without a rate on
+// the part (a state not solved) the grading alone, as without a target.
+std::function<double(const Vec2&)> size_field(const Scene& scene, const BodyPart& p, double t, double size,
+                                              const RemeshRequest& request) {
+  ErrorSizes sizes;  // its `at` empty also where the rate is zero everywhere
+  if (request.target_error > 0 && p.rate.size() == p.strain.size())
+    sizes = error_sizes(p.mesh, p.mesh.x, p.rate, scene.geometry,
+                        {request.target_error, request.min_size * size, request.max_size * size});
+  if (!sizes.at) return corner_field(scene, p, t, size, request.die_corner_size, 1.0);
+  const auto corner = corner_field(scene, p, t, size, request.die_corner_size, request.max_size);
+  if (!corner) return sizes.at;
+  return [corner, at = sizes.at](const Vec2& x) { return std::min(corner(x), at(x)); };
 }
 
 // Where a new outline point of body b goes, at parameter s of the edge
@@ -191,7 +210,7 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const Reme
     const auto listed = std::find(bodies.begin(), bodies.end(), b);
     if (listed != bodies.end()) {
       const double size = request.size[listed - bodies.begin()];
-      OutlineOptions o{size, size_field(scene, part, state.time, size, request.die_corner_size),
+      OutlineOptions o{size, size_field(scene, part, state.time, size, request),
                        request.volume_tolerance, scene.geometry, {}, die_placement(scene, b, state.time, size)};
       for (Index n : request.pinned)
         if (part.node.at(n) >= 0) o.pinned.push_back(part.node[n]);
@@ -225,13 +244,17 @@ RemeshRequest remesh_request(const Scene& scene) {
   for (int b : request.bodies) request.size.push_back(scene.remesh.size.at(b));
   request.volume_tolerance = scene.remesh.volume_tolerance;
   request.die_corner_size = scene.remesh.die_corner_size;
+  request.target_error = scene.remesh.target_error;
+  request.min_size = scene.remesh.min_size;
+  request.max_size = scene.remesh.max_size;
   return request;
 }
 
-Scene initial_remesh(const Scene& scene) {
+Scene initial_remesh(const Scene& scene, const std::vector<GaussValues>& rate) {
   RunState start;
   start.x = scene.mesh.x;
   start.strain.assign(scene.mesh.num_elements(), {0, 0, 0, 0});
+  start.rate = rate;
   return remesh_scene(scene, start, remesh_request(scene)).scene;
 }
 

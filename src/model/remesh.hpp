@@ -13,6 +13,7 @@
 #pragma once
 #include <vector>
 
+#include "mesh/field_transfer.hpp"
 #include "model/scene.hpp"
 #include "model/stepper.hpp"
 
@@ -43,6 +44,13 @@ struct RemeshRequest {
   // of the body) the target size falls to this share of the body's, graded
   // back to it over four element sizes; 1: uniform.
   double die_corner_size = 1;
+  // The size from the old mesh's strain-rate error
+  // (model/error_size_field.hpp) at this target relative error, bounded to
+  // min_size to max_size times the body's size, the smaller of it and the
+  // corners' grading (that then stops at max_size); 0: off. Used where the
+  // state has its strain rate (RunState::rate).
+  double target_error = 0;
+  double min_size = 0, max_size = 1;
   std::vector<Index> pinned;  // nodes of the scene's mesh that stay (monitored nodes)
 };
 
@@ -53,7 +61,9 @@ RemeshRequest remesh_request(const Scene& scene);
 
 // The scene with its remeshed bodies meshed anew in their initial
 // configuration (remesh.initial_mesh): the same outline, the remesher's
-// size field.
-Scene initial_remesh(const Scene& scene);
+// size field; with remesh.target_error, from the error of `rate`, the
+// strain rate of a solve on the scene's mesh at the 2x2 points (empty:
+// the corners' grading alone).
+Scene initial_remesh(const Scene& scene, const std::vector<GaussValues>& rate = {});
 
 }  // namespace rpfem

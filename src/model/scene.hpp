@@ -149,6 +149,11 @@ struct RemeshSpec {
   // field graded at the dies' corners): the first remesh then meets the
   // resolution it makes, not the case's uniform mesh.
   bool initial_mesh = false;
+  // The size from the old mesh's strain-rate error at this target relative
+  // error (model/error_size_field.hpp; 0: off), bounded to min_size to
+  // max_size times the body's size (below).
+  double target_error = 0;
+  double min_size = 0.2, max_size = 2;
   std::vector<int> bodies;  // the bodies meshed anew (remesh.bodies; default: all but virtual rigid ones)
   // mm, per body: the target element size, element_size or else the body's
   // mean edge length on the initial mesh (resolved by the reader; a remeshed

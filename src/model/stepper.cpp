@@ -848,7 +848,7 @@ RunOutcome Runner::run(const RunState* from) {
   // and sol there when it stops, and out_.steps at its step (recorded, or
   // the one resumed at).
   const auto stop = [&] {
-    out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, std::max(first, out_.steps), last_dt_};
+    out_.last = RunState{st.x, st.strain, sol.v, st.time, st.stroke, std::max(first, out_.steps), last_dt_, sol.rate};
     return finish();
   };
   for (int step = first + 1; st.stroke < end - eps; ++step) {

@@ -94,6 +94,10 @@ struct RunState {
   double time = 0, stroke = 0;                // s, mm
   int step = 0;                               // the step recorded there
   double dt = 0;  // s, that step's length: a resumed run's first solve takes it (0: the nominal step)
+  // 1/s, the effective strain rate at the 2x2 points of the solution there
+  // (the remesher's size field from its error, model/error_size_field.hpp;
+  // empty: not solved, e.g. moved onto a new mesh).
+  std::vector<std::array<double, 4>> rate;
 };
 
 struct RunOutcome {

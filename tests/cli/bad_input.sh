@@ -140,4 +140,13 @@ expect fillet-at-end "key 'dies.punch.vertex.2.fillet': vertex 2 is an end of th
   "$rpfem" run "$punch" --out "$tmp/o36" --set dies.punch.vertex.2.fillet=1000.0
 expect fillet-too-large "key 'dies.punch.vertex.1.fillet': a fillet of 1000.000000 mm does not fit between its segments (5.000000 and 20.000000 mm long): its arc takes 1000.000000 mm of each; expected at most 5.000000 mm" -- \
   "$rpfem" run "$punch" --out "$tmp/o37" --set dies.punch.vertex.1.fillet=1000.0
+# The remesher's size from the error: the target's range, and its bounds
+# only with a target.
+sticking=$src/cases/upsetting_sticking_remeshed.toml
+expect remesh-target-error "upsetting_sticking_remeshed.toml: key 'remesh.target_error': expected a number in \[0, 1)" -- \
+  "$rpfem" run "$sticking" --out "$tmp/o38" --set remesh.target_error=1.5
+expect remesh-min-size-alone "key 'remesh.min_size': expected a remesh.target_error above 0 where remesh.min_size is given" -- \
+  "$rpfem" run "$sticking" --out "$tmp/o39" --set remesh.min_size=0.1
+expect remesh-max-size "key 'remesh.max_size': expected a number in \[0.2, 100\] (share of element_size" -- \
+  "$rpfem" run "$sticking" --out "$tmp/o40" --set remesh.target_error=0.1 --set remesh.max_size=0.1
 exit $fail
