@@ -45,6 +45,17 @@ for name in sys.argv[2:]:
               % ("ok  " if good else "FAIL", name, f, tol, err, err / tol, r["steps"], r["wall_time_s"]))
 sys.exit(0 if ok else 1)
 PY
+# Bad input: exit 2 naming the file and the key, before any run.
+up="$src/cases/studies/equal_accuracy_upsetting.toml"
+sed '/^diameter/d' "$up" > "$tmp/no_d.toml"
+sed 's/^kind = "exact"/kind = "richardson"\naxis = "stepping.tolerance"/' "$up" | sed '/^solution\|^diameter\|^height/d' > "$tmp/rich.toml"
+sed 's/^height_per_stroke = 2.0/height_per_stroke = 4.0/' "$up" > "$tmp/deep.toml"
+for b in no_d:study.reference.diameter rich:study.reference.measure deep:study.reference.height_per_stroke; do
+  f=${b%%:*}; key=${b#*:}
+  err=$("$rpfem" sweep "$tmp/$f.toml" --cases "$src/cases" --out "$tmp/bad_$f" 2>&1); rc=$?
+  check "$f: exit 2 naming $f.toml and $key ($err)" \
+    '[ $rc -eq 2 ] && printf "%s" "$err" | grep -q "$f.toml" && printf "%s" "$err" | grep -q "$key" && [ ! -d "$tmp/bad_$f/runs" ]'
+done
 "$rpfem" run "$src/cases/upsetting_dies_frictionless_axisym.toml" -f ipopt --out "$tmp/ipopt" -q \
   --set stepping.integration=euler --set stepping.end_stroke=0.1 --set bodies.billet.mesh.nx=4 \
   --set bodies.billet.mesh.ny=4 >/dev/null 2>&1
