@@ -15,6 +15,9 @@ is in the study's table).
   law), log-log, per formulation, the load and monitor errors with their
   fitted orders, Newton iterations per step and wall time, the reference
   run's as horizontal lines;
+- tolerance: step control by a local error estimate, per formulation the
+  achieved error (what the tolerance bounds) against the stated tolerance
+  with the line y = x, and the wall time against it;
 - grid: a study of two numeric axes and no reference (a grid of hundreds
   or thousands of runs), each run a cell coloured by its final load and by
   its wall time over the two axes, stopped runs marked x."""
@@ -26,7 +29,7 @@ from matplotlib.transforms import blended_transform_factory
 
 from curve_figures import floored
 from plotting import missing_panel, plt, png_bytes
-from study_results import regularization_groups, short, size
+from study_results import TOLERANCE, regularization_groups, short, size
 
 MARKERS = {"direct": "o", "penalty": "s", "auglag": "v", "ipopt": "^", "ssn": "*"}
 NAN = float("nan")
@@ -350,5 +353,56 @@ def grid_png(s):
     return png_bytes(fig)
 
 
-DRAW = {"sensitivity": sensitivity_png, "convergence": convergence_png, "pareto": pareto_png,
+def formulation_curves(rows):
+    """(formulation, its finished runs by tolerance, its stopped runs) in the
+    order the table first names each formulation."""
+    names = []
+    for r in rows:
+        if r["formulation"] not in names:
+            names.append(r["formulation"])
+    return [(f, sorted((r for r in finished(rows) if r["formulation"] == f), key=lambda r: r[TOLERANCE]),
+             [r for r in rows if r["formulation"] == f and r["finished"] != 1]) for f in names]
+
+
+def tolerance_png(s):
+    """Left: the achieved error (sweep.csv load_error_max_rel: max over the
+    stroke of |F_h - F| / max |F| away from the landings) against the stated
+    tolerance, log-log, one curve per formulation, the line y = x and the
+    band of a factor 3 about it; right: each run's wall time."""
+    rows = s["rows"]
+    curves = formulation_curves(rows)
+    if not any(done for _, done, _ in curves):
+        return None
+    ref = s["meta"].get("reference", {})
+    against = ("the exact load" if ref.get("kind") == "exact" else
+               "the %s reference run" % s["meta"].get("reference_run", {}).get("formulation", ""))
+    fig, axes = plt.subplots(1, 2, figsize=(10.4, 4.4), dpi=110)
+    tols = sorted({r[TOLERANCE] for r in rows})
+    for i, (f, done, stopped) in enumerate(curves):
+        pts = [(r[TOLERANCE], r["load_error_max_rel"], r["wall_time_s"]) for r in done
+               if r.get("load_error_max_rel") is not None]
+        style = dict(color="C%d" % i, marker=MARKERS.get(f, "D"), markersize=5, label=f)
+        if pts:
+            axes[0].loglog([p[0] for p in pts], floored([p[1] for p in pts]), "-", **style)
+            axes[1].loglog([p[0] for p in pts], [p[2] for p in pts], "-", **style)
+        for ax in axes:
+            mark_stopped(ax, [r[TOLERANCE] for r in stopped])
+    lo, hi = tols[0] / 2, tols[-1] * 2
+    axes[0].loglog([lo, hi], [lo, hi], "k-", linewidth=0.9, label="y = x")
+    axes[0].fill_between([lo, hi], [lo / 3, hi / 3], [3 * lo, 3 * hi], color="0.5", alpha=0.12,
+                         label="factor 3")
+    axes[0].set(xlabel="stated tolerance", ylabel="achieved max |F_h - F| / max |F|")
+    axes[0].set_title("achieved error against %s" % against, fontsize=9)
+    axes[1].set(xlabel="stated tolerance", ylabel="wall time (s)")
+    axes[1].set_title("wall time per run", fontsize=9)
+    for ax in axes:
+        ax.invert_xaxis()  # tighter to the right
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(textwrap.fill("%s: %s" % (s["study"], s["meta"].get("description", "")), 110), fontsize=10)
+    fig.tight_layout()
+    return png_bytes(fig)
+
+
+DRAW = {"tolerance": tolerance_png, "sensitivity": sensitivity_png, "convergence": convergence_png, "pareto": pareto_png,
         "regularization": regularization_png, "grid": grid_png}

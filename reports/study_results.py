@@ -65,9 +65,15 @@ def regularization_groups(s):
             for g in s["meta"].get("regularization", {}).get("groups", [])]
 
 
+TOLERANCE = "stepping.tolerance"
+
+
 def kind(s):
     """Which figure a study gets: "regularization" (a [study.regularization]
     axis: the errors against it per formulation, iterations and wall time),
+    "tolerance" (a stepping.tolerance axis, the error the tolerance bounds
+    measured: achieved error and wall time against the stated tolerance,
+    per formulation),
     "pareto" (Richardson per formulation, the formulation an axis: error
     against wall time), "convergence" (Richardson along a size axis),
     "sensitivity" (one numeric axis against a reference run), "grid" (two
@@ -76,6 +82,8 @@ def kind(s):
     if s["meta"].get("regularization"):
         return "regularization"
     ref = s["meta"].get("reference", {}).get("kind")
+    if TOLERANCE in s["axes"] and s["meta"].get("reference", {}).get("measure") == "max_relative":
+        return "tolerance"
     formulation_axis = any(a["key"] == "formulation" for a in s["meta"].get("axes", []))
     if ref == "richardson":
         return "pareto" if formulation_axis else "convergence"

@@ -17,11 +17,12 @@ import math
 
 from plotting import draw_or_skip
 from report_html import anchor, figure, html_table, md_table, note
-from study_figures import DRAW, compared, finished, group_name, richardson_groups
-from study_results import kind, load_study, regularization_groups, short, size
+from study_figures import DRAW, compared, finished, formulation_curves, group_name, richardson_groups
+from study_results import TOLERANCE, kind, load_study, regularization_groups, short, size
 
 ALT = {"sensitivity": "penalty sensitivity", "convergence": "convergence", "pareto": "speed against accuracy",
-       "regularization": "regularization", "grid": "final load and wall time over the grid"}
+       "regularization": "regularization", "tolerance": "achieved error against tolerance",
+       "grid": "final load and wall time over the grid"}
 ROWS_SHOWN = 60  # a study with more runs is summarized (aggregates, stopped runs); its sweep.csv has every row
 
 
@@ -38,6 +39,14 @@ def caption(s, k):
                 % (short(reg["axis"]), measure, ref.get("formulation", ""),
                    " and of %s at the last stroke, in %s" % (monitor["column"], monitor["unit"]) if monitor else "",
                    reg.get("default", -1)))
+    if k == "tolerance":
+        against = ("the exact load" if ref.get("kind") == "exact" else "the %s reference run's load"
+                   % s["meta"].get("reference_run", {}).get("formulation", ""))
+        return ("Step control by a local error estimate, one curve per formulation, tighter tolerances to the right "
+                "(log axes). Left: the achieved error, max over the stroke of |F_h - F| / max |F| against %s, no "
+                "stroke within one step of a landing compared (what stepping.tolerance bounds, docs/theory.md), "
+                "against the stated tolerance; solid black y = x, shaded a factor 3 either side. Right: each run's "
+                "wall time. x: runs that did not finish." % against)
     if k == "sensitivity":
         w = s["meta"].get("window", {})
         return ("Against %s (log axis): the largest penetration over the element size (dashed: the %g limit); the "
@@ -142,6 +151,28 @@ def regularization_findings(s):
     return lines
 
 
+def tolerance_findings(s):
+    """Per formulation: the effectivity (achieved error / tolerance) at each
+    tolerance; the reference's cost."""
+    lines = []
+    ex = s["meta"].get("exact")
+    if ex:
+        lines.append("Against the exact load (%s, D0 = %g mm, H0 = %g mm, H = H0 - %g stroke; K = %.2f MPa, n = %g, "
+                     "eps0 = %g)." % (ex["solution"], ex["diameter_mm"], ex["height_mm"], ex["height_per_stroke"],
+                                      ex["K_MPa"], ex["n"], ex["eps0"]))
+    for f, done, _ in formulation_curves(s["rows"]):
+        eff = ["%g: %s" % (r[TOLERANCE], "%.2f" % (r["load_error_max_rel"] / r[TOLERANCE])
+                           if r.get("load_error_max_rel") is not None else "-") for r in reversed(done)]
+        if eff:
+            lines.append("%s, achieved error / tolerance at %s." % (f, ", ".join(eff)))
+    r = s["meta"].get("reference_run")
+    if r:
+        lines.append("The reference run (%s, %s): %d steps, wall time %.1f s." % (
+            r["formulation"], ", ".join(s["meta"].get("reference", {}).get("set", [])) or "the study's set",
+            r["steps"], r["wall_time_s"]))
+    return lines
+
+
 def findings(s):
     """Lines of what the study's sweep.json concludes."""
     meta, lines = s["meta"], []
@@ -151,6 +182,8 @@ def findings(s):
                      % (len(s["rows"]) - len(done), len(s["rows"])))
     if meta.get("regularization"):
         lines += regularization_findings(s)
+    if kind(s) == "tolerance":
+        lines += tolerance_findings(s)
     ref = meta.get("reference", {})
     for label, g, rows in richardson_groups(s):
         # The group names the other axes' values; "(all runs)" when there are none.
@@ -219,6 +252,19 @@ def regularization_table(s):
     return cols
 
 
+def tolerance_table(s):
+    """The columns of a study measuring what a tolerance bounds: the error
+    over the stroke, steps, rejected steps, wall time."""
+    cols = [("formulation", "formulation", "%s")] if any(a["key"] == "formulation"
+                                                         for a in s["meta"].get("axes", [])) else []
+    cols += [(short(k), k, "%g") for k in s["axes"]]
+    cols += [("finished", "finished", None), ("steps", "steps", "%d"), ("rejected steps", "step_rejections", "%d"),
+             ("final load (kN)", "final_load_kN", "%.3f"), ("max |F_h - F| / max |F|", "load_error_max_rel", "%.2e"),
+             ("iterations median", "iterations_median", "%g"), ("wall time (s)", "wall_time_s", "%.1f"),
+             ("reason", "reason", "%s")]
+    return [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in s["rows"])]
+
+
 def table(s):
     """Header and rows of the study's table; columns nobody measured left out."""
     cols, rows = table_columns(s)
@@ -237,6 +283,8 @@ def table_columns(s):
         cols = regularization_table(s)
         return [c for c in cols if c[2] is None or any(r.get(c[1]) not in (None, "") for r in rows)], rows
     rich = ref.get("kind") == "richardson"
+    if ref.get("measure") == "max_relative":
+        return tolerance_table(s), s["rows"]
     cols = [("formulation", "formulation", "%s")] if any(a["key"] == "formulation"
                                                          for a in s["meta"].get("axes", [])) else []
     cols += [(short(k), k, "%g") for k in s["axes"]]

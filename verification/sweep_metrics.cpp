@@ -52,6 +52,37 @@ LoadError load_error(const History& run, const History& ref, const std::string& 
   return e;
 }
 
+std::vector<std::size_t> landing_steps(const History& h) {
+  std::vector<std::size_t> l;
+  if (!h.data.count("contact_nodes")) return l;
+  const auto& c = h.at("contact_nodes");
+  for (std::size_t i = 1; i < c.size(); ++i)
+    if (c[i] != c[i - 1]) l.push_back(i);
+  return l;
+}
+
+double max_relative_load_error(const History& run, const History& ref, const std::string& load) {
+  if (run.rows() == 0 || ref.rows() == 0) return -1;
+  const auto &rs = ref.at("stroke"), &rF = ref.at(load), &s = run.at("stroke"), &F = run.at(load);
+  // The stroke windows around each landing: one step either side.
+  std::vector<std::pair<double, double>> windows;
+  for (const History* h : {&ref, &run}) {
+    const auto& hs = h->at("stroke");
+    for (std::size_t i : landing_steps(*h)) windows.push_back({hs[i - 1], hs[std::min(i + 1, hs.size() - 1)]});
+  }
+  std::vector<double> ref_abs(rF.size());
+  double largest = 0;
+  for (std::size_t i = 0; i < rF.size(); ++i) ref_abs[i] = std::abs(rF[i]), largest = std::max(largest, ref_abs[i]);
+  double worst = -1;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double lo = s[i == 0 ? 0 : i - 1], hi = s[std::min(i + 1, s.size() - 1)];
+    const bool near = std::any_of(windows.begin(), windows.end(),
+                                  [&](const std::pair<double, double>& w) { return w.first <= hi && w.second >= lo; });
+    if (!near) worst = std::max(worst, std::abs(std::abs(F[i]) - interpolate_linear(rs, ref_abs, s[i])));
+  }
+  return worst >= 0 && largest > 0 ? worst / largest : -1.0;
+}
+
 double mean_load(const History& h, const std::string& load, double from) {
   const auto& s = h.at("stroke");
   const auto& f = h.at(load);

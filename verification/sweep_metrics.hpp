@@ -34,6 +34,19 @@ struct LoadError {
 };
 LoadError load_error(const History& run, const History& reference, const std::string& load, double from);
 
+// What `stepping.tolerance` bounds (docs/theory.md, "Step control by a
+// local error estimate"): max |F_h - F_ref| over the run's strokes, over
+// the largest |F_ref|, the reference interpolated linearly (its end values
+// beyond its ends); no stroke within one step (of either run) of either
+// run's landing compared, a landing being a step whose history.csv
+// `contact_nodes` changes (docs/decisions.md, "Load comparisons away from
+// the landings"; a history without the column has none). -1 when nothing
+// is compared.
+double max_relative_load_error(const History& run, const History& reference, const std::string& load);
+
+// The steps whose count of rows in contact (`contact_nodes`) changes.
+std::vector<std::size_t> landing_steps(const History& h);
+
 // The mean of |load| over the run's strokes from `from` mm to its last, kN:
 // the work of the load over that stroke divided by the stroke, trapezoidal
 // over the recorded steps (the first interval cut at `from`). Averaging

@@ -19,8 +19,12 @@ std::vector<std::string> optional_texts(CaseSection& s, const std::string& key, 
 
 const NamedValues<StudyReference> kReferences{{"none", StudyReference::None},
                                               {"formulation", StudyReference::Formulation},
-                                              {"richardson", StudyReference::Richardson}};
-const NamedValues<LoadMeasure> kMeasures{{"final", LoadMeasure::Final}, {"mean", LoadMeasure::Mean}};
+                                              {"richardson", StudyReference::Richardson},
+                                              {"exact", StudyReference::Exact}};
+const NamedValues<LoadMeasure> kMeasures{
+    {"final", LoadMeasure::Final}, {"mean", LoadMeasure::Mean}, {"max_relative", LoadMeasure::MaxRelative}};
+// Against Richardson's estimate only a load at one stroke or a mean.
+const NamedValues<LoadMeasure> kEstimatedMeasures{{"final", LoadMeasure::Final}, {"mean", LoadMeasure::Mean}};
 
 void check_formulation(const CaseSection& s, const std::string& key, const std::string& name) {
   if (!find_formulation(name)) s.fail(key, "a formulation (" + formulation_names() + "), got '" + name + "'");
@@ -69,10 +73,17 @@ void read_reference(CaseSection r, Study& st) {
     check_formulation(r, "formulation", st.reference_formulation);
     st.reference_set = optional_texts(r, "set", "overrides of the reference run");
     st.measure = r.choice("measure", std::string("final"), kMeasures);
+  } else if (st.reference == StudyReference::Exact) {
+    st.exact_solution = r.text("solution", std::nullopt, {"upsetting_axisymmetric"});
+    st.exact_diameter = r.real("diameter", std::nullopt, Range::positive(), "mm");
+    st.exact_height = r.real("height", std::nullopt, Range::positive(), "mm");
+    st.exact_height_per_stroke = r.real("height_per_stroke", 2.0, Range::positive());
+    st.exact_body = r.text("body", std::string());
+    st.measure = r.choice("measure", std::string("final"), kMeasures);
   } else if (st.reference == StudyReference::Richardson) {
     st.richardson_axis = r.text("axis", std::nullopt);
     if (!has_axis(st, st.richardson_axis)) r.fail("axis", "the key of one of the study's axes");
-    st.measure = r.choice("measure", std::string("final"), kMeasures);
+    st.measure = r.choice("measure", std::string("final"), kEstimatedMeasures);
     st.reference_formulation = r.text("formulation", std::string());
     if (!st.reference_formulation.empty()) {
       const auto f = std::find_if(st.axes.begin(), st.axes.end(), [](const StudyAxis& a) { return a.formulation(); });

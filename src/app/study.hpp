@@ -20,17 +20,29 @@
 //   quick        [values] the reduced grid under --quick
 //   [study.reference]  what the load error is measured against
 //   kind         ["none"] "formulation": one more run with `formulation`
-//                and `set` (added to the study's); "richardson": the
+//                and `set` (added to the study's): with a finer fixed
+//                step or mesh, the documented converged run; "exact": a
+//                closed-form load at each run's strokes (below); "richardson": the
 //                estimate from the three finest values of the `axis`
 //                (size h = 1 / value for run.mesh_factor, h = value for any
 //                other key), per combination of the other axes; with
 //                `formulation` (a value of the formulation axis), that
 //                formulation's estimate is every formulation's reference
 //   formulation, set, axis  as above
+//   solution     kind "exact": "upsetting_axisymmetric", the homogeneous
+//                frictionless upsetting of a cylinder (verification/
+//                analytic.hpp), F = sigma_bar(ln(H0/H)) A0 H0 / H with
+//   diameter, height   D0 and H0, mm, and H = H0 - height_per_stroke *
+//   height_per_stroke  stroke [2: a half model, both dies approaching],
+//   body         [the case's only body] whose (rate-independent) law
 //   measure      ["final"] the load compared: "final", at the last
 //                stroke; "mean", averaged over the strokes from `from`
 //                (work / stroke: smooth where contact spreads node by
-//                node). Richardson estimates it; against a reference run
+//                node); "max_relative" (kinds "formulation" and "exact"),
+//                what `stepping.tolerance` bounds: max over the run's
+//                strokes of |F_h - F| / max |F|, no stroke within one step
+//                of a landing compared (docs/theory.md, "Step control by
+//                a local error estimate"). Richardson estimates it; against a reference
 //                it is the error the regularization's orders are taken of
 //   from         [0] mm: the load error counts strokes from here on
 //   [study.window]  the usable range of one axis (e.g. beta): the runs that
@@ -61,9 +73,9 @@ struct StudyAxis {
 };
 
 // [study.reference] kind: what the load error is measured against.
-enum class StudyReference { None, Formulation, Richardson };
-// [study.reference] measure: the load Richardson compares.
-enum class LoadMeasure { Final, Mean };
+enum class StudyReference { None, Formulation, Richardson, Exact };
+// [study.reference] measure: the load error the study states.
+enum class LoadMeasure { Final, Mean, MaxRelative };
 
 // Their names as a study file writes them ("none", "final", ...).
 const std::string& reference_name(StudyReference kind);
@@ -76,6 +88,9 @@ struct Study {
   StudyReference reference = StudyReference::None;
   std::string reference_formulation, richardson_axis;
   LoadMeasure measure = LoadMeasure::Final;
+  // kind "exact": the closed form and its data (mm).
+  std::string exact_solution, exact_body;
+  double exact_diameter = 0, exact_height = 0, exact_height_per_stroke = 2;
   std::vector<std::string> reference_set;
   double from = 0;
   std::string window_axis;
@@ -88,6 +103,10 @@ struct Study {
 
 // The study runs one more run, its reference formulation's.
 inline bool has_reference_run(const Study& st) { return st.reference == StudyReference::Formulation; }
+// A reference load at every stroke: a run's or the exact one.
+inline bool has_reference_load(const Study& st) {
+  return st.reference == StudyReference::Formulation || st.reference == StudyReference::Exact;
+}
 
 // Reads and validates a study; InputError naming the file and key. Under
 // quick the axes hold their quick values and quick_set is appended to set.

@@ -20,6 +20,7 @@
 #include "io/case_file.hpp"
 #include "io/result_writer.hpp"
 #include "io/table_writer.hpp"
+#include "analytic.hpp"
 #include "results.hpp"
 #include "sweep_metrics.hpp"
 
@@ -134,6 +135,8 @@ struct Outcome {
   LoadError err;
   LoadError monitor_err;        // the study's monitor against the reference's, in its unit
   double mean_load_error = -1;  // |mean load / the reference's - 1|
+  double max_relative = -1;     // what stepping.tolerance bounds (max_relative_load_error)
+  double rejections = -1;       // summary.json total_step_rejections (step control only)
   bool finished = false;
   double mean_load = -1;  // kN, over the strokes from the study's `from`
   std::optional<double> monitor_final;  // the monitor at the last stroke (any sign: not a table column)
@@ -152,6 +155,7 @@ Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
     o.mean_load_error = mean_load_error(h, ref, st.load, st.from);
     if (monitored && ref.data.count(st.monitor)) o.monitor_err = column_difference(h, ref, st.monitor, st.from);
   }
+  if (ref.rows() > 0 && h.rows() > 0) o.max_relative = max_relative_load_error(h, ref, st.load);
   const Summary s(r.dir);
   const auto status = s.string("status");
   o.finished = status.value_or("") == "finished" && r.rc == 0;
@@ -159,6 +163,7 @@ Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
   for (char& c : o.reason)
     if (c == ',' || c == '"' || c == '\n') c = ';';  // one CSV cell
   o.per_step = s.number("time_per_step_s").value_or(-1.0);
+  o.rejections = s.number("total_step_rejections").value_or(-1.0);
   o.formulation = r.formulation.empty() ? s.string("formulation").value_or("") : r.formulation;
   return o;
 }
@@ -172,13 +177,32 @@ struct RichardsonGroup {
   Richardson r;
 };
 
+// Reference kind "exact": the closed-form load at the run's own strokes
+// (the study's load column, pressing: negative as a die's Fy), H = H0 -
+// height_per_stroke * stroke.
+History exact_history(const SweepPlan& plan, const std::string& dir) {
+  const Study& st = plan.study;
+  History ex;
+  const History h = history_or_empty(dir);
+  if (h.rows() == 0) return ex;
+  std::vector<double>& load = ex.data[st.load];
+  ex.data["stroke"] = h.at("stroke");
+  for (double s : h.at("stroke"))
+    load.push_back(-upsetting_load_axisymmetric(plan.exact_law, st.exact_diameter, st.exact_height,
+                                                st.exact_height - st.exact_height_per_stroke * s));
+  return ex;
+}
+
 // Per grid run: the history's metrics and the summary's status and timing,
-// the load error against the reference run if there is one.
+// the load errors against the reference run or the exact load if the
+// study has one.
 std::vector<Outcome> outcomes(const SweepPlan& plan) {
   const Study& st = plan.study;
   const History ref = has_reference_run(st) ? history_or_empty(plan.runs.back().dir) : History{};
   std::vector<Outcome> out(plan.index.size());
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = outcome(plan.runs[i], st, ref);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = outcome(plan.runs[i], st,
+                     st.reference == StudyReference::Exact ? exact_history(plan, plan.runs[i].dir) : ref);
   return out;
 }
 
@@ -194,6 +218,26 @@ struct RegularizationGroup {
   ObservedOrders load, monitor;
   double load_at_default = -1, monitor_at_default = -1;
 };
+
+// The load error the study's measure names (against a reference).
+double stated_error(const Study& st, const Outcome& o) {
+  switch (st.measure) {
+    case LoadMeasure::Mean: return o.mean_load_error;
+    case LoadMeasure::MaxRelative: return o.max_relative;
+    case LoadMeasure::Final: break;
+  }
+  return o.err.final;
+}
+
+// Its column of the table.
+const char* stated_error_column(const Study& st) {
+  switch (st.measure) {
+    case LoadMeasure::Mean: return "mean_load_error";
+    case LoadMeasure::MaxRelative: return "load_error_max_rel";
+    case LoadMeasure::Final: break;
+  }
+  return "load_error_final";
+}
 
 std::vector<RegularizationGroup> regularization_groups(const SweepPlan& plan, const std::vector<Outcome>& out) {
   const Study& st = plan.study;
@@ -218,7 +262,7 @@ std::vector<RegularizationGroup> regularization_groups(const SweepPlan& plan, co
     // A run that stopped is not compared: its errors are at another stroke.
     std::vector<double> a, el, em;
     for (std::size_t i : members) {
-      const double load = st.measure == LoadMeasure::Mean ? out[i].mean_load_error : out[i].err.final;
+      const double load = stated_error(st, out[i]);
       a.push_back(value(i));
       el.push_back(out[i].finished ? load : -1.0);
       em.push_back(out[i].finished ? out[i].monitor_err.final : -1.0);
@@ -289,6 +333,8 @@ std::map<std::string, double> measured(const Outcome& o, const PoolRun& r) {
           {"load_error", o.err.largest},
           {"load_error_final", o.err.final},
           {"mean_load_error", o.mean_load_error},
+          {"load_error_max_rel", o.max_relative},
+          {"step_rejections", o.rejections},
           {"monitor_error", o.monitor_err.largest},
           {"monitor_error_final", o.monitor_err.final},
           {"volume_error", o.m.volume_error},
@@ -310,7 +356,8 @@ Table sweep_table(const SweepPlan& plan, const std::vector<Outcome>& out) {
   for (const auto& a : st.axes)
     if (!a.formulation()) t.columns.push_back(a.key);
   for (const char* c : {"exit_code", "finished", "steps", "final_stroke_mm", "final_load_kN", "mean_load_kN",
-                        "penetration_rel", "load_error", "load_error_final", "mean_load_error", "monitor_error",
+                        "penetration_rel", "load_error", "load_error_final", "mean_load_error", "load_error_max_rel",
+                        "step_rejections", "monitor_error",
                         "monitor_error_final", "volume_error", "iterations_mean", "iterations_median",
                         "iterations_max", "iterations_per_solve_median", "rcond", "wall_time_s", "time_per_step_s",
                         "reason"})
@@ -402,8 +449,10 @@ toml::table sweep_record(const SweepPlan& plan, const std::vector<Outcome>& out,
                    {"axes", axes},
                    {"reference", toml::table{{"kind", reference_name(st.reference)},
                                              {"formulation", st.reference_formulation},
+                                             {"set", to_array(st.reference_set)},
                                              {"axis", st.richardson_axis}, {"from_mm", st.from},
-                                             {"measure", measure_name(st.measure)}}},
+                                             {"measure", measure_name(st.measure)},
+                                             {"error_column", stated_error_column(st)}}},
                    {"runs", run_list},
                    {"version", kVersion},
                    {"wall_time_s", seconds_since(plan.start)},
@@ -411,6 +460,12 @@ toml::table sweep_record(const SweepPlan& plan, const std::vector<Outcome>& out,
   if (!rich.empty()) meta.insert("richardson", rich_list);
   if (!st.monitor.empty()) meta.insert("monitor", toml::table{{"column", st.monitor}, {"unit", plan.monitor_unit}});
   if (has_reference_run(st)) meta.insert("reference_run", reference_record(plan, reference_outcome(plan)));
+  if (st.reference == StudyReference::Exact)
+    meta.insert("exact", toml::table{{"solution", st.exact_solution}, {"body", st.exact_body},
+                                     {"diameter_mm", st.exact_diameter}, {"height_mm", st.exact_height},
+                                     {"height_per_stroke", st.exact_height_per_stroke},
+                                     {"K_MPa", plan.exact_law.K}, {"n", plan.exact_law.n},
+                                     {"eps0", plan.exact_law.eps0}});
   if (!st.regularization_axis.empty()) {
     toml::array groups;
     for (const auto& g : reg) {
@@ -424,7 +479,7 @@ toml::table sweep_record(const SweepPlan& plan, const std::vector<Outcome>& out,
     meta.insert("regularization",
                 toml::table{{"axis", st.regularization_axis},
                             {"default", st.regularization_default},
-                            {"load_error", st.measure == LoadMeasure::Mean ? "mean_load_error" : "load_error_final"},
+                            {"load_error", stated_error_column(st)},
                             {"monitor_error", st.monitor.empty() ? "" : "monitor_error_final"},
                             {"groups", groups}});
   }
@@ -485,6 +540,28 @@ void print_sweep(const SweepPlan& plan, long stopped, const std::vector<Richards
   }
 }
 
+// Reference kind "exact": the law of the study's body (its only one when
+// the study names none), rate-independent (the closed form's flow stress
+// is sigma_bar(eps)); the body's height reaches 0 nowhere on the stroke.
+FlowStressLaw exact_law(SweepPlan& plan) {
+  Study& st = plan.study;
+  const PreparedCase pc = prepare_case(st.case_file, plan.runs.front().overrides, plan.runs.front().formulation);
+  const auto& bodies = pc.scene->bodies;
+  auto fail = [&](const std::string& key, const std::string& expected) {
+    throw InputError(st.file + ": key 'study.reference." + key + "': expected " + expected);
+  };
+  if (st.exact_body.empty()) {
+    if (bodies.size() != 1) fail("body", "the body whose law the exact load takes (the case has several)");
+    st.exact_body = bodies.front().name;
+  }
+  const auto b = std::find_if(bodies.begin(), bodies.end(), [&](const BodySpec& x) { return x.name == st.exact_body; });
+  if (b == bodies.end()) fail("body", "a body of the case, got '" + st.exact_body + "'");
+  if (b->law.m != 0) fail("body", "a body of rate-independent law (the closed form has no strain rate)");
+  if (st.exact_height - st.exact_height_per_stroke * pc.scene->stepping.end_stroke <= 0)
+    fail("height_per_stroke", "a height H0 - height_per_stroke * end_stroke above 0");
+  return b->law;
+}
+
 }  // namespace
 
 SweepPlan plan_sweep(const SweepOptions& opt) {
@@ -504,6 +581,7 @@ SweepPlan plan_sweep(const SweepOptions& opt) {
     plan.runs.push_back(ref);
   }
   for (auto& r : plan.runs) plan.monitor_unit = plan_run(r, st);
+  if (st.reference == StudyReference::Exact) plan.exact_law = exact_law(plan);
   return plan;
 }
 

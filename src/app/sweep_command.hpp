@@ -17,6 +17,7 @@
 
 #include "app/run_engine.hpp"
 #include "app/study.hpp"
+#include "material/flow_stress.hpp"
 
 namespace rpfem {
 
@@ -38,6 +39,7 @@ struct SweepPlan {
   std::vector<std::vector<std::size_t>> index;  // per grid run, its value's index on each axis
   std::vector<PoolRun> runs;                    // the grid's, then the reference
   std::string monitor_unit;                     // the study's monitor's (io/monitors.hpp: mm, percentage points, ...)
+  FlowStressLaw exact_law;                      // reference kind "exact": the body's law
   std::chrono::steady_clock::time_point start;
 };
 

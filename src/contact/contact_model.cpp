@@ -351,12 +351,16 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
     gap[s] = r.true_gap();
     if (!carries(res[i])) continue;
     // A die's load: the row's forces on all its nodes (one node against a
-    // die; the slave's nodes of a mortar row).
+    // die; the slave's nodes of a mortar row). Whether the die reaches a
+    // symmetry plane is judged by the rows in contact only: an interior
+    // point method's multiplier of a free row is small but not zero
+    // (ipopt), and a free node on the plane would zero the die's load.
     const int die = disc_->interfaces()[r.iface].die;
     for (int a = 0; a < r.kin.k; ++a) {
       const Vec2 F = row_force(r, res[i], a);
       out.force[r.kin.nodes[a]] += F;
-      if (die >= 0) die_load[die] += F, die_nodes[die].push_back(r.kin.nodes[a]);
+      if (die >= 0) die_load[die] += F;
+      if (die >= 0 && res[i].in_contact) die_nodes[die].push_back(r.kin.nodes[a]);
     }
     // Pressure and shear over the slave node's share of the surface.
     if (r.weight > 0) pr[s] += res[i].normal / r.weight, sh[s] += res[i].friction / r.weight;

@@ -12,6 +12,7 @@
 #include "analytic.hpp"
 #include "results.hpp"
 #include "run_case.hpp"
+#include "sweep_metrics.hpp"
 
 using namespace rpfem;
 using accept::aisi1035;
@@ -46,47 +47,6 @@ Achieved upsetting_at(double tol, const std::string& integration, const std::str
   EXPECT_NEAR(s.back(), 5.0, 1e-9) << "the run must reach 50 % reduction";
   EXPECT_GT(h.at("step_error_bound").back(), 0.0) << "the estimate's bound in history.csv";
   return {worst / largest, int(h.rows()) - 1};
-}
-
-// Steps where a run's count of contact rows changes (its landings).
-std::vector<std::size_t> landings(const History& h) {
-  std::vector<std::size_t> l;
-  if (!std::count(h.columns.begin(), h.columns.end(), "contact_nodes")) return l;
-  const auto& c = h.at("contact_nodes");
-  for (std::size_t i = 1; i < c.size(); ++i)
-    if (c[i] != c[i - 1]) l.push_back(i);
-  return l;
-}
-
-// The tolerance's quantity (docs/theory.md, "Step control by a local error
-// estimate") against a reference run: max |F_h - F_ref| / max |F_ref| over
-// the run's strokes, the reference interpolated linearly, no stroke within
-// one step (of either run) of either run's landing compared.
-double achieved_against(const History& run, const History& ref, const std::string& col) {
-  const auto& rs = ref.at("stroke");
-  const auto& rF = ref.at(col);
-  const auto& s = run.at("stroke");
-  const auto& F = run.at(col);
-  std::vector<std::pair<double, double>> windows;
-  for (std::size_t i : landings(ref)) windows.push_back({rs[i - 1], rs[std::min(i + 1, rs.size() - 1)]});
-  for (std::size_t i : landings(run)) windows.push_back({s[i - 1], s[std::min(i + 1, s.size() - 1)]});
-  double worst = 0, largest = 0;
-  for (double f : rF) largest = std::max(largest, std::abs(f));
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const double lo = s[i == 0 ? 0 : i - 1], hi = s[std::min(i + 1, s.size() - 1)];
-    bool near = false;
-    for (const auto& [a, b] : windows) near = near || (a <= hi && b >= lo);
-    if (near) continue;
-    const std::size_t j = std::lower_bound(rs.begin(), rs.end(), s[i]) - rs.begin();
-    double fr = std::abs(rF.back());
-    if (j == 0) fr = std::abs(rF[0]);
-    else if (j < rs.size()) {
-      const double t = (s[i] - rs[j - 1]) / (rs[j] - rs[j - 1]);
-      fr = (1 - t) * std::abs(rF[j - 1]) + t * std::abs(rF[j]);
-    }
-    worst = std::max(worst, std::abs(std::abs(F[i]) - fr));
-  }
-  return worst / largest;
 }
 
 }  // namespace
@@ -139,7 +99,7 @@ TEST(StepControl, EulerRingMeetsTheTolerance) {
     const std::string dir = run_case("ring_compression", extra, 0, std::string("_").append(std::to_string(tol)));
     const History h = read_history(dir + "/history.csv");
     EXPECT_NEAR(h.at("stroke").back(), 5.0, 1e-9);
-    const double a = achieved_against(h, ref, "top_die.Fy");
+    const double a = max_relative_load_error(h, ref, "top_die.Fy");
     std::printf("[measured] ring, tolerance %.0e: achieved %.3e (ratio %.2f) in %zu steps\n", tol, a, a / tol,
                 h.rows() - 1);
     EXPECT_GT(a, tol / 3) << tol;

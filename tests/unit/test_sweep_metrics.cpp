@@ -210,3 +210,34 @@ TEST(TableWriter, MetadataAndColumnsBeyond64kBAreWrittenAndReadBack) {
   EXPECT_EQ(read_h5_text_attribute(h5, "/table", "columns"), order);
   EXPECT_EQ(read_h5_dataset(h5, "/table/" + t.columns.back()).size(), 1u);
 }
+
+// What a tolerance bounds (docs/theory.md, "Step control by a local error
+// estimate"): max |F_h - F| over max |F|, the reference interpolated, no
+// stroke within one step of either run's landing compared.
+TEST(SweepMetrics, MaxRelativeLoadErrorLeavesTheLandingsOut) {
+  History ref, run;
+  ref.data["stroke"] = {0, 1, 2, 3, 4, 5, 6};
+  ref.data["F"] = {0, -100, -200, -300, -400, -500, -600};
+  run.data["stroke"] = {0, 0.5, 1.5, 2.5, 3.5, 4.5, 5.5, 6};
+  //                       ref 50, 150, 250, 350, 450, 550, 600
+  run.data["F"] = {0, -51, -150, -250, -350, -450, -553, -600};
+  // No landings: the worst is 3 at 5.5 mm over the largest 600.
+  EXPECT_NEAR(max_relative_load_error(run, ref, "F"), 3.0 / 600, 1e-15);
+  // The run lands a node at 5.5 mm: strokes whose steps reach 4.5 to 6 mm
+  // are left out (3.5 to 6 mm); the worst is then 1 at 0.5 mm.
+  run.data["contact_nodes"] = {1, 1, 1, 1, 1, 1, 2, 2};
+  EXPECT_NEAR(max_relative_load_error(run, ref, "F"), 1.0 / 600, 1e-15);
+  EXPECT_EQ(landing_steps(run), std::vector<std::size_t>{6});
+  // The reference lands at 6 mm instead (its window 5 to 6 mm): the same strokes out.
+  run.data.erase("contact_nodes");
+  ref.data["contact_nodes"] = {1, 1, 1, 1, 1, 1, 2};
+  EXPECT_NEAR(max_relative_load_error(run, ref, "F"), 1.0 / 600, 1e-15);
+  // And at 1 mm too (0 to 2 mm): only 3.5 mm is compared, where the loads agree.
+  ref.data["contact_nodes"] = {1, 2, 2, 2, 2, 2, 3};
+  EXPECT_EQ(max_relative_load_error(run, ref, "F"), 0.0);
+  // A reference with no landing, a run landing at every step: nothing is compared.
+  ref.data.erase("contact_nodes");
+  run.data["contact_nodes"] = {1, 2, 3, 4, 5, 6, 7, 8};
+  EXPECT_EQ(max_relative_load_error(run, ref, "F"), -1.0);
+  EXPECT_EQ(max_relative_load_error(History{}, ref, "F"), -1.0);
+}
