@@ -38,6 +38,7 @@ struct SweepPlan {
   std::vector<std::vector<std::size_t>> index;  // per grid run, its value's index on each axis
   std::vector<PoolRun> runs;                    // the grid's, then the reference
   std::string monitor_unit;                     // the study's monitor's (io/monitors.hpp: mm, percentage points, ...)
+  EngineChoice engine;                          // how its runs ran (sweep.json "engine"), after they ran
   std::chrono::steady_clock::time_point start;
 };
 
