@@ -155,6 +155,7 @@ class SlurmArrays {
     g_interrupted = 0;
     struct sigaction sa {}, old_int {}, old_term {};
     sa.sa_handler = on_interrupt;
+    sa.sa_flags = SA_RESTART;  // a poll's read of squeue is not cut short by the signal
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     std::size_t ended = 0;
@@ -173,6 +174,9 @@ class SlurmArrays {
       std::map<std::string, std::string> state;
       std::istringstream q(capture_shell("squeue -h -r -o '%i %t' -j " + shell_quote(job_list)));
       for (std::string id, st; q >> id >> st;) state[id] = st;
+      // A signal during the poll: its answer may be cut short, and a task
+      // missing from it would be taken as ended.
+      if (g_interrupted) continue;
       int pending = 0, running = 0, failed = 0;
       for (Task& t : tasks_) {
         if (t.ended) {
