@@ -3,11 +3,13 @@
 #include <malloc.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 
 #include "app/calibrate_command.hpp"
 #include "app/data_dir.hpp"
 #include "app/run_command.hpp"
+#include "app/slurm_task.hpp"
 #include "app/subprocess.hpp"
 #include "app/suite_command.hpp"
 #include "app/sweep_command.hpp"
@@ -70,11 +72,23 @@ void engine_options(CLI::App* cmd, rpfem::EngineOptions& e) {
   cmd->add_option("--sbatch-arg", e.slurm.extra, "slurm: one more sbatch argument (repeatable)");
   cmd->add_option("--array-limit", e.slurm.concurrency, "slurm: at most N tasks at once (the array's %N; 0: no limit)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--runs-per-task", e.slurm.runs_per_task,
-                  "slurm: each array task runs N runs one after another (each in its own folder with its own exit "
-                  "code; --time is then the task's limit for all N)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--runs-per-task",
+         [&e](const std::string& v) {
+           if (v == "auto") {
+             e.slurm.runs_per_task = 0;
+             return;
+           }
+           char* end = nullptr;
+           const long n = std::strtol(v.c_str(), &end, 10);
+           if (end == v.c_str() || *end != '\0' || n < 1 || n > 1000000000)
+             throw CLI::ValidationError("--runs-per-task", "expected a positive whole number or auto, got '" + v + "'");
+           e.slurm.runs_per_task = static_cast<int>(n);
+         },
+         "slurm: each array task runs N runs one after another in one process (each in its own folder with its own "
+         "exit code; --time is then the task's limit for all N); auto (the default): the cheapest run first as a "
+         "task of its own, N from its time for tasks of about 5 minutes (docs/cluster.md)")
+      ->type_name("N|auto");
 }
 
 // The options of the commands that run many cases on a worker pool.
@@ -200,6 +214,15 @@ int main(int argc, char** argv) {
   CLI::App* sweep_cmd = add_sweep(app, sweep, suite.cases_dir);
   CLI::App* verify_cmd = add_verify(app, verify);
   CLI::App* cal_cmd = add_calibrate(app, cal);
+  // A Slurm array task's runs (app/slurm_task.hpp): what the engine's task
+  // script runs, no command of the user's (no group: not in --help).
+  std::string task_runs;
+  std::size_t task_first = 1, task_count = 1;
+  CLI::App* task_cmd = app.add_subcommand("slurm-task", "one task of a Slurm job array (the engine's own)");
+  task_cmd->group("");
+  task_cmd->add_option("runs", task_runs)->required();
+  task_cmd->add_option("first", task_first)->required();
+  task_cmd->add_option("count", task_count)->required();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -210,6 +233,7 @@ int main(int argc, char** argv) {
     if (*suite_cmd) return rpfem::suite_command(suite);
     if (*sweep_cmd) return rpfem::sweep_command(sweep);
     if (*cal_cmd) return rpfem::calibrate_command(cal);
+    if (*task_cmd) return rpfem::slurm_task_command(task_runs, task_first, task_count);
     if (*verify_cmd) return rpfem::verify_command(verify.dir, verify.checks_file, verify.quiet);
     return 0;
   });

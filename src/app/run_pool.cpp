@@ -149,8 +149,16 @@ void run_on(RunWorker& worker, std::size_t i, PoolRun& result) {
 
 void run_one(PoolRun& r) {
   std::vector<PoolRun> one{r};
-  RunWorker worker = run_worker(one);
-  run_on(worker, 0, r);
+  run_in_turn(one, [](std::size_t) {});
+  r.rc = one[0].rc, r.seconds = one[0].seconds;
+}
+
+void run_in_turn(std::vector<PoolRun>& runs, const std::function<void(std::size_t)>& ended) {
+  RunWorker worker = run_worker(runs);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    run_on(worker, i, runs[i]);
+    ended(i);
+  }
 }
 
 void run_pool(std::vector<PoolRun>& runs, int jobs, bool quiet) {

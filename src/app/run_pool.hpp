@@ -7,6 +7,8 @@
 #pragma once
 #include <chrono>
 #include <cmath>
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -65,5 +67,11 @@ std::string run_command(const PoolRun& r, const std::string& self);
 // writes: fills r.rc and r.seconds. The pool's worker, and `rpfem
 // calibrate`'s evaluations.
 void run_one(PoolRun& r);
+
+// The runs one after another in one forked worker process (app/run_worker.hpp;
+// a new one after a run that crashed, which reports 128 + its signal), each as
+// run_one runs it: their rc and seconds filled, ended(i) called in this
+// process as run i ends. A bundled Slurm task's runs (app/slurm_task.hpp).
+void run_in_turn(std::vector<PoolRun>& runs, const std::function<void(std::size_t)>& ended);
 
 }  // namespace rpfem

@@ -178,13 +178,14 @@ int suite_command(const SuiteOptions& options) {
   // One pool for the scenes' runs and the studies': --jobs holds for all.
   std::vector<Job> all = jobs;
   for (const auto& p : studies) all.insert(all.end(), p.runs.begin(), p.runs.end());
-  run_runs(all, opt.out_dir, opt.engine, opt.jobs, opt.quiet);
+  const EngineChoice engine = run_runs(all, opt.out_dir, opt.engine, opt.jobs, opt.quiet);
   std::copy_n(all.begin(), jobs.size(), jobs.begin());
   auto next = all.begin() + static_cast<std::ptrdiff_t>(jobs.size());
   std::vector<int> stopped;
   for (auto& p : studies) {
     std::copy_n(next, p.runs.size(), p.runs.begin());
     next += static_cast<std::ptrdiff_t>(p.runs.size());
+    p.engine = engine;
     stopped.push_back(write_sweep(p));
   }
   write_manifest(opt, jobs, studies, stopped);

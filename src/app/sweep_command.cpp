@@ -414,6 +414,23 @@ toml::table reference_record(const SweepPlan& plan, const Outcome& o) {
   return t;
 }
 
+// Where the runs ran: the engine, and on Slurm the runs per task and how
+// they were chosen (--runs-per-task auto: the probe run's time, a run's
+// estimate, the task's target, the partition's CPUs).
+toml::table engine_record(const EngineChoice& e) {
+  toml::table t{{"name", e.engine}};
+  if (e.engine != "slurm") return t;
+  t.insert("runs_per_task", e.runs_per_task);
+  t.insert("runs_per_task_rule", e.rule);
+  if (e.rule == "auto") {
+    t.insert("probe_run_s", e.probe_run_s);
+    t.insert("estimated_run_s", e.estimated_run_s);
+    t.insert("task_target_s", e.task_target_s);
+    t.insert("cpus", e.cpus);
+  }
+  return t;
+}
+
 // sweep.json: the study, every run's overrides, Richardson's estimates,
 // the usable window, the reference run's own values, the regularization's
 // orders, version and timings.
@@ -454,6 +471,7 @@ toml::table sweep_record(const SweepPlan& plan, const std::vector<Outcome>& out,
                                              {"measure", measure_name(st.measure)},
                                              {"error_column", stated_error_column(st)}}},
                    {"runs", run_list},
+                   {"engine", engine_record(plan.engine)},
                    {"version", kVersion},
                    {"wall_time_s", seconds_since(plan.start)},
                    {"runs_time_s", runs_time}};
@@ -591,7 +609,7 @@ int sweep_command(const SweepOptions& opt) {
   if (!opt.quiet)
     std::printf("rpfem sweep %s: %s, results in %s\n", plan.study.name.c_str(), plan.study.description.c_str(),
                 opt.out_dir.c_str());
-  run_runs(plan.runs, opt.out_dir, opt.engine, opt.jobs, opt.quiet);
+  plan.engine = run_runs(plan.runs, opt.out_dir, opt.engine, opt.jobs, opt.quiet);
   return write_sweep(plan) ? 3 : 0;
 }
 

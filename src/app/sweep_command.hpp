@@ -40,6 +40,7 @@ struct SweepPlan {
   std::vector<PoolRun> runs;                    // the grid's, then the reference
   std::string monitor_unit;                     // the study's monitor's (io/monitors.hpp: mm, percentage points, ...)
   FlowStressLaw exact_law;                      // reference kind "exact": the body's law
+  EngineChoice engine;                          // how its runs ran (sweep.json "engine"), after they ran
   std::chrono::steady_clock::time_point start;
 };
 

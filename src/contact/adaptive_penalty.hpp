@@ -50,6 +50,11 @@ class AdaptivePenalty {
     const auto it = factor_.find({r.iface, r.key});
     return it == factor_.end() ? 1.0 : it->second;
   }
+  // A row's factor carried over a remesh (ContactRow::Prior::row_factor,
+  // the old mesh's row nearest it): kept if larger than its own.
+  void carry(const ContactRow& r, double f) {
+    if (f > factor(r)) factor_[{r.iface, r.key}] = std::min(s_.max_factor, f);
+  }
   // Before a step's attempts.
   void begin_step() { raises_ = 0, last_depth_ = INFINITY, replaced_.clear(); }
   // After an attempt, its rows at the end configuration (those not free):

@@ -161,7 +161,7 @@ void ContactModel::take_over_rows(const StepView& v) {
     if (!best) continue;
     const Vec2 tangent(-r.kin.n(1), r.kin.n(0));
     r.prior = ContactRow::Prior{best->normal * r.weight, best->friction * r.weight * best->tangent.dot(tangent),
-                                best->stick};
+                                best->stick, best->row_factor};
   }
   taken_ = {};
 }
@@ -207,7 +207,7 @@ ContactZones ContactModel::contact_zones(const std::vector<Vec2>& x) const {
     if (!res[i].in_contact || !(r.weight > 0)) continue;
     out.tractions[ifaces[r.iface].name].push_back({x[r.kin.nodes[0]], Vec2(-r.kin.n(1), r.kin.n(0)),
                                                    res[i].normal / r.weight, res[i].friction / r.weight,
-                                                   res[i].stick > 0});
+                                                   res[i].stick > 0, enf_->row_factor(i)});
   }
   for (const auto& [iface, nodes] : on) {
     if (sides[iface].size() == 1) out.slave_side[ifaces[iface].name] = *sides[iface].begin();

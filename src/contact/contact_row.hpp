@@ -74,6 +74,7 @@ struct ContactRow {
   struct Prior {
     double normal = 0, friction = 0;  // N, friction along this row's t
     bool stick = false;
+    double row_factor = 1;  // the old row's factor on its stiffness (ContactEnforcement::row_factor)
   };
   std::optional<Prior> prior;
 };

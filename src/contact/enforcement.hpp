@@ -58,6 +58,10 @@ class ContactEnforcement {
   // the step redone shorter as under contact.landing_overshoot (that key,
   // when set, takes precedence).
   virtual double kept_depth() const { return 0; }
+  // The factor it has put on row i's own stiffness (the adaptive penalty's
+  // raises; 1 if none), carried to the new mesh's rows at a remesh
+  // (ContactZones::Traction::row_factor, ContactRow::Prior).
+  virtual double row_factor(std::size_t i) const { return 1.0; }
   // Its own per-step scalars: names and values in a fixed order.
   virtual void columns(std::vector<NamedValue>& out) const {}
   // Largest penetration per element size it measures itself (the end-of-

@@ -101,6 +101,9 @@ void RegularizedRows::set_laws(const StepView& v) {
     const ContactRow& r = rows[i];
     const FrictionLaw& f = ifaces[r.iface].friction;
     RowLaw& l = laws_[i];
+    // A solve's first rows after a remesh start from the factor of the old
+    // row nearest them (ContactModel::take_over_rows).
+    if (r.prior && s_.adapt.on) adaptive_.carry(r, r.prior->row_factor);
     l.beta = s_.beta_hat[r.iface] * r.weight * adaptive_.factor(r);
     l.inv_dt = s_.gap_correction && v.dt > 0 ? 1.0 / v.dt : 0.0;
     l.one_sided = one_sided();

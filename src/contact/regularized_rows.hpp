@@ -84,6 +84,8 @@ class RegularizedRows {
   void begin_attempts();
   PenaltyRaise raise_penalty();
   const AdaptivePenalty& adaptive() const { return adaptive_; }
+  // Row i's factor on its beta (1 before any rows).
+  double factor(std::size_t i) const { return rows_ && i < rows_->size() ? adaptive_.factor((*rows_)[i]) : 1.0; }
 
  private:
   bool one_sided() const { return s_.gap_correction; }
@@ -124,6 +126,7 @@ class RegularizedEnforcement : public ContactEnforcement {
     const auto& a = rows_.settings().adapt;
     return a.on ? a.tolerance : 0.0;
   }
+  double row_factor(std::size_t i) const override { return rows_.factor(i); }
   void anchor_merit(const StepView&, const std::vector<Vec2>& vel) override { rows_.anchor_merit(vel); }
   const std::vector<RowResult>& results() const override { return rows_.results(); }
   std::any save_state() const override { return save_members(rows_.save_state(), events_); }

@@ -162,6 +162,11 @@ struct ContactZones {
     double normal = 0;            // MPa, > 0 pressing
     double friction = 0;          // MPa, on the slave along `tangent`
     bool stick = false;
+    // The enforcement's factor on the row's stiffness (the adaptive
+    // penalty's, contact/adaptive_penalty.hpp): the new rows start from it
+    // rather than from 1 (a row raised before the remesh presses as hard
+    // after it and would be raised again).
+    double row_factor = 1;
   };
   std::map<std::string, std::vector<Traction>> tractions;
 };

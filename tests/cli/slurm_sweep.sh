@@ -11,6 +11,8 @@
 # stroke. The suite on Slurm builds the local suite's study table and its
 # report; a calibration on Slurm makes the local one's evaluations. Where
 # the cluster cannot be had it fails, unless RPFEM_ALLOW_SKIP=1 skips it.
+# The sweeps run a run per task (--runs-per-task 1); bundled tasks and the
+# automatic choice: slurm_bundled.sh, slurm_task_runs.sh.
 set -u
 rpfem=$1; src=$2
 tmp=$(mktemp -d)
@@ -55,7 +57,7 @@ t0=$(date +%s.%N)
 "$rpfem" sweep "$tmp/study.toml" --out "$tmp/local" --jobs 2 --quiet; rc=$?
 t1=$(date +%s.%N)
 check "local sweep exits 0" '[ $rc -eq 0 ]'
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm > "$tmp/s1.log" 2>&1; rc=$?
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm --runs-per-task 1 > "$tmp/s1.log" 2>&1; rc=$?
 t2=$(date +%s.%N)
 check "slurm sweep exits 0" '[ $rc -eq 0 ]'
 check "nine tasks submitted" 'grep -q "9 runs on Slurm: 9 submitted, 0 finished before" "$tmp/s1.log"'
@@ -65,17 +67,17 @@ check "slurm and local tables agree in every result column" 'same_table "$tmp/lo
 echo "measured: local $(awk "BEGIN { print $t1 - $t0 }") s, slurm $(awk "BEGIN { print $t2 - $t1 }") s for 9 runs"
 # Again on the same folder with --resume: nothing to submit; with one run's
 # summary gone, that run only.
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm --resume > "$tmp/s2.log" 2>&1
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm --runs-per-task 1 --resume > "$tmp/s2.log" 2>&1
 check "a finished study submits nothing" 'grep -q "9 runs on Slurm: 0 submitted, 9 finished before" "$tmp/s2.log"'
 victim=$tmp/slurm_out/runs/004
 rm "$victim/summary.json"
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm --resume > "$tmp/s3.log" 2>&1
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/slurm_out" --engine slurm --runs-per-task 1 --resume > "$tmp/s3.log" 2>&1
 check "only the unfinished run resubmitted" 'grep -q "9 runs on Slurm: 1 submitted, 8 finished before" "$tmp/s3.log"'
 # Interrupted (SIGTERM, as Ctrl-C) while the array runs one task at a time:
 # the array is cancelled, exit 130 (saying --resume resumes); the same
 # command with --resume then submits only the runs that did not finish, and
 # the table is the local one.
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm --array-limit 1 > "$tmp/c1.log" 2>&1 &
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm --runs-per-task 1 --array-limit 1 > "$tmp/c1.log" 2>&1 &
 pid=$!
 for _ in $(seq 100); do [ "$(grep -c "finished in" "$tmp/c1.log")" -ge 3 ] && break; sleep 0.1; done
 kill -TERM $pid; wait $pid; rc=$?
@@ -83,7 +85,7 @@ check "interrupted: exit 130, the array cancelled" '[ $rc -eq 130 ] && grep -q "
 sleep 1
 cut_ids=$(grep -o "submitted job array [0-9]*" "$tmp/c1.log" | awk '{print $4}' | paste -sd,)
 check "nothing of its arrays left in the queue" '[ -n "$cut_ids" ] && [ -z "$(squeue -h -t PD,R,CG -j "$cut_ids" 2>/dev/null)" ]'
-"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm --resume > "$tmp/c2.log" 2>&1; rc=$?
+"$rpfem" sweep "$tmp/study.toml" --out "$tmp/cut" --engine slurm --runs-per-task 1 --resume > "$tmp/c2.log" 2>&1; rc=$?
 done_before=$(grep -o "[0-9]* finished before" "$tmp/c2.log" | cut -d' ' -f1)
 check "resumed: exit 0, only the unfinished submitted" '[ $rc -eq 0 ] && [ "${done_before:-0}" -ge 3 ] && [ "$done_before" -lt 9 ]'
 check "resumed table as the local one" 'same_table "$tmp/local/sweep.csv" "$tmp/cut/sweep.csv"'
@@ -101,7 +103,7 @@ check "the suite's study table the same on Slurm" \
 # file does not appear here (an srun that runs elsewhere). Bad input,
 # before anything is submitted.
 mkdir -p "$tmp/elsewhere"; printf '#!/bin/sh\nexit 0\n' > "$tmp/elsewhere/srun"; chmod +x "$tmp/elsewhere/srun"
-PATH="$tmp/elsewhere:$PATH" "$rpfem" sweep "$tmp/study.toml" --out "$tmp/unshared" --engine slurm > "$tmp/u.log" 2>&1; rc=$?
+PATH="$tmp/elsewhere:$PATH" "$rpfem" sweep "$tmp/study.toml" --out "$tmp/unshared" --engine slurm --runs-per-task 1 > "$tmp/u.log" 2>&1; rc=$?
 check "an unshared folder: exit 2, said so, nothing submitted" \
   '[ $rc -eq 2 ] && grep -q "not writable from a compute node" "$tmp/u.log" && ! grep -q "submitted job array" "$tmp/u.log"'
 # A run that stops (a step limit) and one killed at its time limit.
@@ -116,7 +118,7 @@ set = ["stepping.end_stroke=0.3", "run.mesh_factor=0.25", "solver.max_iterations
 key = "formulations.penalty.beta_factor"
 values = [1.0]
 TOML
-"$rpfem" sweep "$tmp/bad.toml" --out "$tmp/bad" --engine slurm > "$tmp/b.log" 2>&1; rc=$?
+"$rpfem" sweep "$tmp/bad.toml" --out "$tmp/bad" --engine slurm --runs-per-task 1 > "$tmp/b.log" 2>&1; rc=$?
 check "a stopped run: exit 3, its exit code reported" '[ $rc -eq 3 ] && grep -q "stopped, exit 3" "$tmp/b.log"'
 # A calibration on Slurm: one one-task array per evaluation, the same
 # evaluations (values and penetrations) as on this machine.
