@@ -34,18 +34,7 @@ wait $sweep; rc=$?
 cat "$tmp/log"
 check "one worker process for the first four runs ($workers)" '[ "$workers" -eq 1 ]'
 check "sweep exits 3: a run stopped ($rc)" '[ $rc -eq 3 ]'
-/usr/bin/python3 - "$tmp/out" <<'PY' || fail=1
-import csv, sys
-rows = list(csv.DictReader(open(sys.argv[1] + "/sweep.csv")))
-codes = [int(float(r["exit_code"])) for r in rows]
-finished = [r["finished"] for r in rows]
-killed = [i for i, c in enumerate(codes) if c == 137]
-ok = len(rows) == 12 and len(killed) == 1 and killed[0] >= 3 and finished[killed[0]] == "0"
-ok &= codes.count(0) == 11 and finished.count("1") == 11
-print("%s  exit codes %s" % ("ok  " if ok else "FAIL", codes))
-open(sys.argv[1] + "/killed", "w").write(rows[killed[0]]["dir"] if killed else "")
-sys.exit(0 if ok else 1)
-PY
+/usr/bin/python3 "$(dirname "$0")/lib/one_run_killed.py" "$tmp/out" 12 3 || fail=1
 killed=$(cat "$tmp/out/killed")
 check "no lock file left but in the killed run's folder" \
   '[ -z "$(find "$tmp/out/runs" -name .rpfem.lock | grep -v "/$killed/")" ]'

@@ -77,15 +77,5 @@ wait $sweep; rc=$?
 cat "$tmp/crash.log"
 check "one worker process for the task's first three runs ($first, $third)" '[ -n "$first" ] && [ "$first" = "$third" ]'
 check "sweep exits 3: a run stopped ($rc)" '[ $rc -eq 3 ]'
-/usr/bin/python3 - "$tmp/crash" <<'PY' || fail=1
-import csv, sys
-rows = list(csv.DictReader(open(sys.argv[1] + "/sweep.csv")))
-codes = [int(float(r["exit_code"])) for r in rows]
-killed = [i for i, c in enumerate(codes) if c == 137]
-ok = len(rows) == 5 and len(killed) == 1 and killed[0] >= 2 and rows[killed[0]]["finished"] == "0"
-ok &= codes.count(0) == 4 and [r["finished"] for r in rows].count("1") == 4
-ok &= bool(killed) and open(sys.argv[1] + "/" + rows[killed[0]]["dir"] + "/exit_code").read().split()[0] == "137"
-print("%s  exit codes %s" % ("ok  " if ok else "FAIL", codes))
-sys.exit(0 if ok else 1)
-PY
+/usr/bin/python3 "$(dirname "$0")/lib/one_run_killed.py" "$tmp/crash" 5 2 --exit-code-file || fail=1
 exit $fail
