@@ -98,10 +98,12 @@ void ContactModel::begin_step(const StepView& v) {
   // outward (under Test II's punch the billet's centre lifted off the die).
   // A solve that moves the nodes but anticipates no landing (the start of
   // an Euler step under step control: StepView::anticipates) takes the
-  // same rows, each with its gap as it is: landing control ends the step
-  // at the next landing.
+  // same landing rows, each with its gap as it is: landing control ends
+  // the step at the next landing. A row that engages gradually is not one
+  // landing control ends a step at: it is anticipated.
   if (!v.moves || !v.anticipates) {
     for (ContactRow& r : rows_) {
+      if (v.moves && !r.lands) continue;
       const bool stays = !settings_.landing_control || touching_.count({r.iface, r.key});
       r.free = r.nearest() > (stays ? kDriftBand : kLandingBand) * disc_->interfaces()[r.iface].h;
       if (r.lands && !v.moves) r.kin.gap_from = std::min(r.kin.gap_from, 0.0);

@@ -40,9 +40,10 @@ struct StepView {
   // solve): contact then anticipates no landing within dt.
   bool moves = true;
   // Whether contact anticipates a landing within dt (with moves). false:
-  // only slaves touching now take part, and landing control ends the step
-  // where the solved velocity lands another (the start of an Euler step
-  // under step control, whose length is chosen after the solve).
+  // of the slaves that land (not mortar's gradual rows), only those
+  // touching now take part, and landing control ends the step where the
+  // solved velocity lands another (the start of an Euler step under step
+  // control, whose length is chosen after the solve).
   bool anticipates = true;
   // The velocity the solve starts from (the last solve's: the step's
   // predicted motion), indexed like x; null, or all zero, before any solve.
