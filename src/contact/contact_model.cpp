@@ -96,11 +96,17 @@ void ContactModel::begin_step(const StepView& v) {
   // gradually (mortar) keeps its open weighted gap: taken as closed, the
   // rows at the contact zone's rim pressed fully and spread the load
   // outward (under Test II's punch the billet's centre lifted off the die).
-  if (!v.moves) {
+  // A solve that moves the nodes but anticipates no landing (the start of
+  // an Euler step under step control: StepView::anticipates) takes the
+  // same landing rows, each with its gap as it is: landing control ends
+  // the step at the next landing. A row that engages gradually is not one
+  // landing control ends a step at: it is anticipated.
+  if (!v.moves || !v.anticipates) {
     for (ContactRow& r : rows_) {
+      if (v.moves && !r.lands) continue;
       const bool stays = !settings_.landing_control || touching_.count({r.iface, r.key});
       r.free = r.nearest() > (stays ? kDriftBand : kLandingBand) * disc_->interfaces()[r.iface].h;
-      if (r.lands) r.kin.gap_from = std::min(r.kin.gap_from, 0.0);
+      if (r.lands && !v.moves) r.kin.gap_from = std::min(r.kin.gap_from, 0.0);
     }
   }
   enf_->begin_step(v, rows_);

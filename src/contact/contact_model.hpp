@@ -48,6 +48,7 @@ class ContactModel final : public ContactFormulation {
   StepSolver* solver() override { return enf_->solver(); }
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override;
   std::optional<double> limit_dt(const StepView& v, const std::vector<Vec2>& vel) const override;
+  bool controls_landings() const override { return settings_.landing_control; }
   void remember_start_gaps() override;
   std::optional<double> overshoot() const override;
   std::optional<std::string> retune() override { return enf_->retune(); }

@@ -39,6 +39,12 @@ struct StepView {
   // scheme only the predictor of the next half step (the end-of-step
   // solve): contact then anticipates no landing within dt.
   bool moves = true;
+  // Whether contact anticipates a landing within dt (with moves). false:
+  // of the slaves that land (not mortar's gradual rows), only those
+  // touching now take part, and landing control ends the step where the
+  // solved velocity lands another (the start of an Euler step under step
+  // control, whose length is chosen after the solve).
+  bool anticipates = true;
   // The velocity the solve starts from (the last solve's: the step's
   // predicted motion), indexed like x; null, or all zero, before any solve.
   // A treatment may look ahead with it: the rows a slave approaching
@@ -203,6 +209,10 @@ class ContactFormulation {
   // Largest step (s) before the motion v lands a free node on its master;
   // the stepper shortens the step to it.
   virtual std::optional<double> limit_dt(const StepView&, const std::vector<Vec2>& v) const { return std::nullopt; }
+  // Whether limit_dt ends a step at a free node's landing (the stepper's
+  // start-of-step solves need not anticipate landings then:
+  // StepView::anticipates).
+  virtual bool controls_landings() const { return false; }
   // Landing control's correction from the step's end. Before a step's
   // attempts: the rows' gaps now are remembered (and the state a retune
   // starts from, below). After an attempt's end solve (its rows at the end

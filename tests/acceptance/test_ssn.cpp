@@ -58,7 +58,7 @@ void PrintTo(const SsnScene& s, std::ostream* os) { *os << s.name << " " << s.la
 class SsnConditions : public testing::TestWithParam<SsnScene> {};
 
 //~ feature = "ssn"
-//~ scene = "paper_test2_die, paper_test2_virtual_rigid, ring m0.1, m1 and mu0.1, upsetting mu0.1, core_in_sleeve, the remeshed ring at m = 1 (24 x 16, to 60 %), Test I double action to 3 mm (node to segment), each under ssn"
+//~ scene = "paper_test2_die (as it ships, and on the half mesh to 0.5 mm under Euler step control at 1e-3), paper_test2_virtual_rigid, ring m0.1, m1 and mu0.1, upsetting mu0.1, core_in_sleeve, the remeshed ring at m = 1 (24 x 16, to 60 %), Test I double action to 3 mm (node to segment), each under ssn"
 //~ source = "Hueber, Stadler and Wohlmuth 2008 (the conditions as complementarity functions); paper eq. 6 and 10"
 //~ uses = ["expect_conditions"]
 //~ [[check]]
@@ -76,6 +76,9 @@ TEST_P(SsnConditions, HoldAtEveryStep) {
 INSTANTIATE_TEST_SUITE_P(
     Scenes, SsnConditions,
     testing::Values(SsnScene{"TestIIDie", "paper_test2_die", "ssn", ""},
+                    SsnScene{"TestIIDieEulerControl", "paper_test2_die", "ssn",
+                             "--set stepping.integration=euler --set stepping.tolerance=1e-3 "
+                             "--set stepping.end_stroke=0.5 --set run.mesh_factor=0.5"},
                     SsnScene{"TestIIVirtualRigid", "paper_test2_virtual_rigid", "ssn", ""},
                     SsnScene{"RingM01", "ring_compression", "ssn", "--variant m0.1"},
                     SsnScene{"RingMu01", "ring_compression", "ssn", "--variant mu0.1"},

@@ -108,3 +108,51 @@ TEST(StepControl, EulerRingMeetsTheTolerance) {
     last = a;
   }
 }
+
+// Test II's punch lands its nodes one by one as the cone's contact spreads.
+// Under Euler with step control a step's end solve is the next step's
+// start velocity, and the next step's length is chosen after it: were it to
+// anticipate the landings within its own step (a node still open pressed
+// already), the next, shorter step found the node open and let it go, the
+// pair's difference was first order in the step there, and the step was
+// kept at the least increment above its bound (ssn: each punch node touched
+// 3 times, 10 steps above the bound; penalty: 2 to 4, 12 steps).
+//~ feature = "test2"
+//~ scene = "paper_test2_die on the half mesh to 0.5 mm under ssn and penalty, explicit Euler, stepping.tolerance 1e-3"
+//~ source = "Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4 (the embedded pair's estimate is second order in the step only where the solution is smooth over it)"
+//~ [[check]]
+//~ what = "each punch node touches once and is never released in a kept step (events.csv)"
+//~ compares = "expected behaviour"
+//~ tolerance = "no kept release on the punch"
+//~ why = "the punch's contact zone only grows; a node let go at its landing and pressed again is the anticipation of a step of another length"
+//~ [[check]]
+//~ what = "steps kept with the local error estimate above its bound (history.csv step_error, step_error_bound)"
+//~ compares = "expected behaviour"
+//~ tolerance = "none"
+//~ why = "a landing inside a step makes the estimate first order in the step, which no shorter step brings under the bound; landing control ends the step at it instead"
+TEST(StepControl, EulerLandsEachPunchNodeOnce) {
+  for (const char* f : {"ssn", "penalty"}) {
+    const std::string dir = run_case("paper_test2_die",
+                                     std::string("--formulation ") + f +
+                                         " --set stepping.integration=euler --set stepping.tolerance=1e-3 "
+                                         "--set stepping.end_stroke=0.5 --set run.mesh_factor=0.5 "
+                                         "--set stepping.output_every=100000",
+                                     0, std::string("_") + f);
+    const std::string events = read_text(dir + "/events.csv");
+    int touches = 0, releases = 0;
+    std::size_t at = 0;
+    for (std::size_t end; (end = events.find('\n', at)) != std::string::npos; at = end + 1) {
+      const std::string line = events.substr(at, end - at);
+      if (line.find("punch") == std::string::npos) continue;
+      touches += line.find(",kept,touch node") != std::string::npos;
+      releases += line.find(",kept,release node") != std::string::npos;
+    }
+    EXPECT_GE(touches, 3) << f << ": the punch's nodes land within 0.5 mm";
+    EXPECT_EQ(releases, 0) << f << ": a punch node let go after its landing";
+    const History h = read_history(dir + "/history.csv");
+    const auto &e = h.at("step_error"), &b = h.at("step_error_bound");
+    int above = 0;
+    for (std::size_t i = 0; i < h.rows(); ++i) above += e[i] > b[i];
+    EXPECT_EQ(above, 0) << f << ": steps kept above the estimate's bound";
+  }
+}
