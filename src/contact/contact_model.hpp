@@ -99,8 +99,9 @@ class ContactModel final : public ContactFormulation {
   double max_drift_ = 0;       // mm, the last step's largest drift corrected (place_on_surfaces)
   std::vector<Vec2> solved_;   // the last settled solve's velocities
   ContactZones taken_;         // taken over from before a remesh, until the first step
-  // mm, per row (iface, key) taken over at a remesh and in contact since:
-  // its gap then, held as its zero (ContactRow::gap_offset).
+  // mm, per row (iface, key) taken over at a remesh and in contact since,
+  // or out of contact but still inside its master: its gap then, held as
+  // its zero (ContactRow::gap_offset; end_step drops it).
   std::map<std::pair<int, Index>, double> offsets_;
 };
 
