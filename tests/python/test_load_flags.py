@@ -73,6 +73,22 @@ class LoadFlags(unittest.TestCase):
             self.assertIn("penalty differs from direct by more than 0.5 % away from the landings", lines[0])
             self.assertIn("above; largest +1.00 %", lines[0])
 
+    def test_a_flag_between_runs_remeshed_apart_says_so(self):
+        ref = run("direct")
+        r = run("ipopt", factor=1.01)
+        self.assertNotIn("meshes differ", load_flags.scene_flags([ref, r], ref)[0])
+        # The same remeshes: nothing to say.
+        ref["summary"] = {"remeshes": [{"stroke_mm": 0.5}]}
+        r["summary"] = {"remeshes": [{"stroke_mm": 0.5}]}
+        self.assertNotIn("meshes differ", load_flags.scene_flags([ref, r], ref)[0])
+        # One remeshed again before the flagged strokes end, the other not.
+        r["summary"] = {"remeshes": [{"stroke_mm": 0.5}, {"stroke_mm": 2.5}]}
+        line = load_flags.scene_flags([ref, r], ref)[0]
+        self.assertIn("meshes differ there (remeshed at 0.5, 2.5 mm against 0.5 mm)", line)
+        # A remesh after the last flagged stroke does not count.
+        r["summary"] = {"remeshes": [{"stroke_mm": 0.5}, {"stroke_mm": 9.0}]}
+        self.assertNotIn("meshes differ", load_flags.scene_flags([ref, r], ref)[0])
+
     def test_a_half_percent_offset_is_below_the_threshold(self):
         ref = run("direct")
         self.assertEqual(load_flags.differences(run("auglag", shift=3e-4, factor=1.004), ref), [])
