@@ -86,8 +86,11 @@ void SsnStepSolver::reduce_rows(const StepView& v, const StepProblem& problem) {
     for (std::size_t q = 0; q < r.an.size(); ++q)
       nn += r.an[q].second * r.an[q].second, tt += r.at[q].second * r.at[q].second, nt += r.an[q].second * r.at[q].second;
     // (Or the slip rate is fixed by the kernel's constraints: both sides
-    // on a symmetry plane.)
-    r.one_direction = nn * tt - nt * nt <= kParallel * nn * tt || tt <= kParallel * nn;
+    // on a symmetry plane.) Or the slave node itself moves along one
+    // direction (the header: a mortar row of a node on a symmetry plane
+    // or the axis).
+    r.one_direction = nn * tt - nt * nt <= kParallel * nn * tt || tt <= kParallel * nn ||
+                      dofs.frame(k.nodes[0]).nfree == 1;
     r.die_node = k.k == 1 ? k.nodes[0] : -1;  // against a die: the node alone
     red_.push_back(std::move(r));
   }

@@ -132,6 +132,21 @@ class SsnStepSolver final : public StepSolver {
     // its forces act only through N n + T t along that direction. It is
     // held frictionless, its normal force carrying that component whole,
     // as `direct` records the reaction of such a node.
+    // So is every row whose slave node has one free direction (a symmetry
+    // plane, the axis, a prescribed component). A node-to-segment row of
+    // such a node against the master's node on the same plane is one of
+    // the above; a dual mortar row adds the master's nodes off the plane,
+    // with weights from the master's curvature within the row's support
+    // (at core_in_sleeve's corner on its symmetry plane 7e-5 of the
+    // row's at 2.56 mm, 0.2 at 4.4 mm), so that sticking there can be
+    // nearly dependent on the gap: held sticking after cycling, that row
+    // kept a slip rate of 6e-8 mm/s while
+    // its friction force grew by 1.3e3 N per iteration (kRegularization
+    // far above the row's own compliance along its slip), and the solve
+    // stopped at 2.56 mm. The row's friction force is the shear traction
+    // at its node integrated with its test function, W_j tau(x_j) for tau
+    // linear over the support (the dual basis; Wohlmuth 2000), and the
+    // shear traction vanishes on a symmetry plane or the axis.
     bool one_direction = false;
     Index die_node = -1;  // a row against a die: its node
   };

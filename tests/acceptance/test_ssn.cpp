@@ -58,7 +58,7 @@ void PrintTo(const SsnScene& s, std::ostream* os) { *os << s.name << " " << s.la
 class SsnConditions : public testing::TestWithParam<SsnScene> {};
 
 //~ feature = "ssn"
-//~ scene = "paper_test2_die (as it ships, and on the half mesh to 0.5 mm under Euler step control at 1e-3), paper_test2_virtual_rigid, ring m0.1, m1 and mu0.1, upsetting mu0.1, core_in_sleeve, the remeshed ring at m = 1 (24 x 16, to 60 %), Test I double action to 3 mm (node to segment), each under ssn"
+//~ scene = "paper_test2_die (as it ships, and on the half mesh to 0.5 mm under Euler step control at 1e-3), paper_test2_virtual_rigid, ring m0.1, m1 and mu0.1, upsetting mu0.1, core_in_sleeve (node to segment and dual mortar rows), the remeshed ring at m = 1 (24 x 16, to 60 %), Test I double action to 3 mm (node to segment), each under ssn"
 //~ source = "Hueber, Stadler and Wohlmuth 2008 (the conditions as complementarity functions); paper eq. 6 and 10"
 //~ uses = ["expect_conditions"]
 //~ [[check]]
@@ -85,6 +85,9 @@ INSTANTIATE_TEST_SUITE_P(
                     SsnScene{"RingM1", "ring_compression", "ssn", "--variant m1"},
                     SsnScene{"UpsettingMu01", "upsetting_friction", "ssn", "--variant mu0.1"},
                     SsnScene{"CoreInSleeve", "core_in_sleeve", "ssn", ""},
+                    // The core's corner on the symmetry plane: its mortar
+                    // row held frictionless (ssn_step_solver.hpp, one_direction).
+                    SsnScene{"CoreInSleeveMortar", "core_in_sleeve", "ssn+mortar", ""},
                     SsnScene{"RingRemeshedM1", "ring_compression_remeshed", "ssn", ""},
                     SsnScene{"TestIDoubleAction", "paper_test1_double_action", "ssn+node_to_segment",
                              "--set stepping.end_stroke=3"}),
