@@ -190,6 +190,14 @@ class Runner {
   // none): the reach of a corner's reflex angle that is not an inversion
   // (attempt()).
   double last_penetration_rel_ = 0;
+  // The solves of a step tried again after a failed attempt (or of the
+  // first configuration after its solve failed) run Newton with the
+  // watchdog (solver/newton.hpp), after kRetryWatchdog iterations without
+  // |R| halving: longer than the anchored merit's cycles seen (2 to 5
+  // iterates on core_in_sleeve), and a first attempt's solve is never
+  // changed by it.
+  bool retry_ = false;
+  static constexpr int kRetryWatchdog = 6;
   // Steps whose exact friction law was violated beyond kFrictionTolerance
   // (ContactRecord::friction_violation), and the worst.
   static constexpr double kFrictionTolerance = 1e-8;
@@ -317,6 +325,7 @@ NewtonResult Runner::solve_once(const StepView& sv, StepProblem& problem, Vec& u
   }
   NewtonSettings settings = scene_.solver.newton;
   if (warm) settings.direct_iterations = 0, settings.reuse_factorization = true;
+  if (retry_) settings.watchdog = kRetryWatchdog;
   if (const double t = contact_.tangent().tol_velocity; t > 0) settings.tol_velocity = std::min(settings.tol_velocity, t);
   NewtonResult r = newton_solve(problem.newton_system(), settings, u);
   if (!r.converged) r.reason = "Newton: " + r.reason;
@@ -684,7 +693,9 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   };
   for (;;) {
     a = Attempt{};
+    retry_ = cuts > 0;
     std::string why = attempt(st, sol, step, dt, a);
+    retry_ = false;
     // A step that takes the least scaled Jacobian below the floor counts as
     // failed where the run remeshes.
     const bool poor = why.empty() && scene_.remesh.enabled && a.quality < scene_.remesh.reject_below;
@@ -840,6 +851,7 @@ RunOutcome Runner::run(const RunState* from) {
   if (scene_.stepping.tolerance > 0)
     proposed_increment_ = std::clamp(proposed_increment_, scene_.stepping.min_increment, scene_.stepping.max_increment);
   const int first = segment_first_step_;
+  const std::any initial_state = contact_.save_state();
   Solution sol = solve(st, guess, first, last_dt_, nullptr, start_moves(), start_anticipates());
   // A resumed solve from the velocities carried over from the old mesh
   // may fail where one from rest does not (they break the new mesh's
@@ -851,6 +863,18 @@ RunOutcome Runner::run(const RunState* from) {
                 start_anticipates());
     sol.events.insert(sol.events.begin(), "resumed solve from the carried-over velocities failed (" + why +
                                               "): solved from rest");
+  }
+  // Failed again: once more from the same start under the retries' watchdog.
+  if (!sol.failure.empty()) {
+    const std::string why = sol.failure;
+    retry_ = true;
+    contact_.restore_state(initial_state);
+    Solution again = solve(st, guess, first, last_dt_, nullptr, start_moves(), start_anticipates());
+    retry_ = false;
+    if (again.failure.empty()) {
+      sol = std::move(again);
+      sol.events.insert(sol.events.begin(), "first solve failed (" + why + "): solved again with Newton's watchdog");
+    }
   }
   if (!sol.failure.empty()) {
     out_.reason = "step " + std::to_string(first) + (from ? " (resumed)" : " (initial configuration)") + ": " +

@@ -24,6 +24,14 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
   bool cut = false;       // the previous line search cut the step
   bool chord = s.reuse_factorization && sys.reuse;  // the held factorization is still used
   double last_chord = -1;  // |du| / |u| of the previous chord step; -1: none
+  // The watchdog (newton.hpp): the iteration |R| last halved at, and the
+  // iterate of least |R| so far.
+  const bool watch = s.watchdog > 0 && sys.anchor && sys.energy;
+  double halved_from = R.norm();
+  int halved_at = 0;
+  Vec least_u, least_R;
+  double least_norm = R.norm(), least_scale = scale;
+  if (watch) least_u = u, least_R = R;
   for (int it = 1; it <= s.max_iterations; ++it) {
     out.iterations = it;
     out.stalled = false;  // of the last iteration only
@@ -50,7 +58,7 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
       energy = sys.energy(u);
     }
     const double slope = R.dot(du);
-    const bool use_energy = sys.energy && slope < 0;
+    const bool use_energy = sys.energy && slope < 0 && !out.watchdog;
     double step = 1.0;
     Vec trial;
     double trial_energy = 0, trial_scale = scale;
@@ -108,6 +116,19 @@ NewtonResult newton_solve(const NewtonSystem& sys, const NewtonSettings& s, Vec&
     if (trial_scale > 0 && std::isfinite(trial_scale)) scale = trial_scale;
     if (use_energy) energy = trial_energy;
     else if (sys.energy && !sys.anchor) energy = sys.energy(u);
+    if (watch && !out.watchdog) {
+      const double n = R.norm();
+      if (n < 0.5 * halved_from) halved_from = n, halved_at = it;
+      if (n < least_norm) least_norm = n, least_u = u, least_R = R, least_scale = scale;
+      if (it - halved_at >= s.watchdog) {
+        // Back to the least |R| and judged by |R| from here on; the error
+        // estimate starts again (no full step before).
+        out.watchdog = true;
+        u = least_u, R = least_R, scale = least_scale;
+        last_full = -1, chord = false;
+        continue;
+      }
+    }
     out.correction = step * du.norm() / std::max(u.norm(), 1e-300);
     out.residual = R.norm() / scale;
     // The error left in u: the next correction, theta times this one for a

@@ -18,6 +18,19 @@
 // tol_velocity |u|: that error is the next correction, estimated as theta
 // |du| from the contraction theta = |du_k| / |du_k-1| < 1/2 of two
 // successive full Newton steps (Deuflhard 2004, sec. 2.1), else |du| itself.
+// A merit anchored at each iterate (NewtonSystem::anchor: Coulomb friction
+// with its bound frozen there) is a different function at every iterate,
+// so steps that each descend their own merit may cycle (core_in_sleeve
+// under penalty: five iterates repeating to four digits, |R| 8.6e-3 to
+// 1.3 of the force scale). With `watchdog` > 0, once |R| has not halved
+// in that many iterations the search goes back to the iterate of least
+// |R| so far and judges every step after by |R| itself (the second rule
+// above), a merit that does not move and cannot cycle (the watchdog
+// technique: Chamberlain, Powell, Lemarechal and Pedersen, Math. Prog.
+// Study 16, 1982; Nocedal and Wright 2006, sec. 15.6). Slower than the
+// anchored merit where that converges (by |R| from the start the core in
+// sleeve took 3,700 to 4,300 iterations where 2,300 do), so it is a
+// retry's (model/stepper.hpp), not every solve's.
 // With a held factorization (reuse_factorization) the first iterations are
 // the chord method (the simplified Newton method, Deuflhard 2004, sec.
 // 2.1.4), linear in theta: its error is bounded by theta / (1 - theta) |du|.
@@ -54,6 +67,9 @@ struct NewtonSettings {
   bool reuse_factorization = false;
   double armijo = 1e-4;
   int max_halvings = 12;
+  // > 0: the watchdog above, after this many iterations without |R|
+  // halving (only with an anchored merit); 0: off.
+  int watchdog = 0;
 };
 
 struct NewtonSystem {
@@ -88,6 +104,7 @@ struct NewtonResult {
   double residual = 0;         // |R| / F_scale at exit
   double correction = 0;       // |du| / |u| of the last iteration
   bool at_round_off = false;   // converged on the round-off floor (see newton.cpp)
+  bool watchdog = false;       // the watchdog took over the line search
   // Not converged, and the last Newton correction was at round-off with
   // the residual above what is accepted there: the residual's round-off
   // floor lies above tol_force (an ill-conditioned problem).

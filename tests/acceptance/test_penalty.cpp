@@ -104,6 +104,29 @@ TEST(Penalty, AdaptivePenaltyKeepsThePenetrationToleranceOnCoreInSleeve) {
   EXPECT_NE(summary.find("\"total_contact_retunes\""), std::string::npos);
 }
 
+// Coulomb friction between two bodies makes the penalty's line search
+// merit a different function at every iterate (solver/newton.hpp), and on
+// the core in its sleeve its steps cycled: with dual mortar rows the step
+// after the remesh at 4.40 mm failed at every halving (five iterates
+// repeating, |R| 8.7e-3 to 0.18 of the force scale), and two pass failed
+// its first solve (|R| 0.55). The retries' watchdog finds both; with two
+// pass the run still stops at 4.50 mm (docs/decisions.md).
+//~ feature = "newton_watchdog"
+//~ scene = "core_in_sleeve under penalty with one-pass dual mortar rows (to 5 mm, remeshed at 4.40 mm) and with two pass (to 0.2 mm)"
+//~ source = "Chamberlain, Powell, Lemarechal and Pedersen 1982 (the watchdog technique); Nocedal and Wright 2006, sec. 15.6"
+//~ [[check]]
+//~ what = "the mortar run finishes its 5 mm; the two-pass run solves its first configuration and records that the watchdog did"
+//~ compares = "another formulation"
+//~ tolerance = "exit code 0, the end stroke to 1e-9 mm"
+//~ why = "without the watchdog the mortar run stops at 4.40 mm and the two-pass run at its first solve"
+TEST(Penalty, RetriesWatchdogEndsTheCyclesOnCoreInSleeve) {
+  const std::string mortar = run_case("core_in_sleeve", "-f penalty+mortar", 0, "_mortar");
+  EXPECT_NEAR(read_history(mortar + "/history.csv").at("stroke").back(), 5.0, 1e-9);
+  const std::string two = run_case("core_in_sleeve", "-f penalty+two_pass --set stepping.end_stroke=0.2", 0, "_two");
+  EXPECT_NEAR(read_history(two + "/history.csv").at("stroke").back(), 0.2, 1e-9);
+  EXPECT_NE(read_text(two + "/events.csv").find("solved again with Newton's watchdog"), std::string::npos);
+}
+
 // Paper Test I to 30 % (cases/paper_test1_*.toml): the double action's
 // spheres mirror each other, each deforms as the single-action sphere, no
 // penetration, action equals reaction. About a minute of CPU.
