@@ -464,6 +464,7 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
   for (std::size_t j = 0; j < m; ++j) x.ln[j] = (*state_)[red_[j].row].lambda_n, x.lt[j] = (*state_)[red_[j].row].lambda_t;
   const NewtonSettings& ns = s_.newton;
   bool secant = ns.direct_iterations > 0;
+  bool warm = !hold_start_;  // every row's forces from an earlier solve
   forces(problem, x);
   // A row with no forces of its own yet (a run's first solve, the first
   // after a remesh) that touches at the start takes the force its nodes'
@@ -480,6 +481,7 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     for (const auto& [d, w] : rr.at) tt += w * w, ft += w * x.R[d];
     if (!(r <= 0) || !(nn > 0)) continue;
     x.ln[j] = std::max(0.0, fn / nn);
+    warm = false;
     if (x.ln[j] > 0 && tt > 0) x.lt[j] = ft / tt;
   }
   rows(v, x, nullptr, true);
@@ -512,8 +514,13 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     hold_start_ = false;
   }
   double last_full = -1;  // |du| of the last full consistent step (-1: none)
+  // A warm start's first iteration probes the consistent tangent (the
+  // header); redone with the secant one, and counted, where that fails.
+  const bool probing = secant && warm;
+  if (probing) secant = false;
+  int redone = 0;
   for (int iter = 1;; ++iter) {
-    if (iter > ns.max_iterations) {
+    if (iter + redone > ns.max_iterations) {
       out.reason = "ssn: no convergence in " + std::to_string(ns.max_iterations) + " iterations (|F| / F_scale = " +
                    std::to_string(x.norm / x.scale) + ")";
       break;
@@ -543,7 +550,9 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     const double dun = dx.head(n).norm();
     const bool predicted = !secant && last_full > 0 && dun < 0.5 * last_full &&
                            dun / last_full * dun <= ns.tol_velocity * x.u.norm();
-    const bool keep_full_step = iter < ns.max_iterations && !predicted;
+    const bool keep_full_step = iter + redone < ns.max_iterations && !predicted;
+    const bool probe = probing && iter == 1 && !secant;
+    bool redo = false;
     Iterate trial;
     double s = 1;
     for (int cut = 0;; ++cut) {
@@ -576,8 +585,17 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
       if (ok || cut == ns.max_halvings) rows(v, trial, nullptr, true);
       if (ok) ok = trial.norm <= std::max(kGrowth * x.norm, kGrowthFloor * x.scale);
       if (ok) break;
+      if (probe) {
+        redo = true;
+        break;
+      }
       if (cut == ns.max_halvings) break;  // the shortest step is taken: the secant iteration follows
       s *= 0.5, ++stats_.halvings;
+    }
+    for (std::size_t j = 0; j < m && probe && !redo; ++j) redo = trial.ncp[j].active != x.ncp[j].active;
+    if (redo) {
+      secant = true, ++redone, --iter;
+      continue;
     }
     if (!std::isfinite(trial.norm)) {
       out.reason = "ssn: non-finite residual";
@@ -610,7 +628,7 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     last_full = full ? du : -1;
     secant = s < 1 && ns.secant_after_cut;
     x = std::move(trial);
-    stats_.iterations = iter;
+    stats_.iterations = iter + redone;
     const double unorm = std::max(x.u.norm(), 1e-300);
     // At round-off: the correction below kRoundOffCorrection of |u| with
     // |F| within kRoundOffFactor of the tolerance, as the kernel's Newton
