@@ -28,9 +28,11 @@
 // above), a merit that does not move and cannot cycle (the watchdog
 // technique: Chamberlain, Powell, Lemarechal and Pedersen, Math. Prog.
 // Study 16, 1982; Nocedal and Wright 2006, sec. 15.6). Slower than the
-// anchored merit where that converges (by |R| from the start the core in
-// sleeve took 3,700 to 4,300 iterations where 2,300 do), so it is a
-// retry's (model/stepper.hpp), not every solve's.
+// anchored merit where that converges, and no surer from the start (by
+// |R| in every solve core_in_sleeve under penalty with mortar rows
+// stopped at 4.93 mm after 3,748 iterations; with the watchdog on its
+// retries it finishes in 3,473), so it is a retry's (model/stepper.hpp),
+// not every solve's.
 // With a held factorization (reuse_factorization) the first iterations are
 // the chord method (the simplified Newton method, Deuflhard 2004, sec.
 // 2.1.4), linear in theta: its error is bounded by theta / (1 - theta) |du|.
