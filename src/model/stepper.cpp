@@ -853,29 +853,28 @@ RunOutcome Runner::run(const RunState* from) {
   const int first = segment_first_step_;
   const std::any initial_state = contact_.save_state();
   Solution sol = solve(st, guess, first, last_dt_, nullptr, start_moves(), start_anticipates());
+  // A failed first solve tried again from the contact state it started
+  // with (from `start`, with the retries' watchdog if `watchdog`); kept,
+  // with `note` on its events, where it converges.
+  const auto again = [&](const std::vector<Vec2>& start, bool watchdog, const std::string& note) {
+    const std::string why = sol.failure;
+    contact_.restore_state(initial_state);
+    retry_ = watchdog;
+    Solution s = solve(st, start, first, last_dt_, nullptr, start_moves(), start_anticipates());
+    retry_ = false;
+    if (!s.failure.empty()) return;
+    sol = std::move(s);
+    sol.events.insert(sol.events.begin(), note + " (" + why + ")");
+  };
   // A resumed solve from the velocities carried over from the old mesh
   // may fail where one from rest does not (they break the new mesh's
   // linearized contact constraints: Ipopt's restoration phase failed on the
   // backward extrusion at 6 mm); it is tried again from rest.
-  if (from && !sol.failure.empty() && from->v.size() == guess.size()) {
-    const std::string why = sol.failure;
-    sol = solve(st, std::vector<Vec2>(st.x.size(), Vec2::Zero()), first, last_dt_, nullptr, start_moves(),
-                start_anticipates());
-    sol.events.insert(sol.events.begin(), "resumed solve from the carried-over velocities failed (" + why +
-                                              "): solved from rest");
-  }
-  // Failed again: once more from the same start under the retries' watchdog.
-  if (!sol.failure.empty()) {
-    const std::string why = sol.failure;
-    retry_ = true;
-    contact_.restore_state(initial_state);
-    Solution again = solve(st, guess, first, last_dt_, nullptr, start_moves(), start_anticipates());
-    retry_ = false;
-    if (again.failure.empty()) {
-      sol = std::move(again);
-      sol.events.insert(sol.events.begin(), "first solve failed (" + why + "): solved again with Newton's watchdog");
-    }
-  }
+  if (from && !sol.failure.empty() && from->v.size() == guess.size())
+    again(std::vector<Vec2>(st.x.size(), Vec2::Zero()), false,
+          "resumed solve from the carried-over velocities failed: solved from rest");
+  // Failed still: once more from the same start under the retries' watchdog.
+  if (!sol.failure.empty()) again(guess, true, "first solve failed: solved again with Newton's watchdog");
   if (!sol.failure.empty()) {
     out_.reason = "step " + std::to_string(first) + (from ? " (resumed)" : " (initial configuration)") + ": " +
                   sol.failure + conditioning_note(sol.rcond, sol.stalled);
