@@ -458,6 +458,9 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
   for (const Reduced& r : red_) in_solve[r.row] = 1;
   for (std::size_t j = 0; j < rows_->size(); ++j)
     if (!in_solve[j]) (*state_)[j] = {};
+  // Rows open at the start.
+  std::vector<char> open_at_start(m);
+  for (std::size_t j = 0; j < m; ++j) open_at_start[j] = !(*state_)[red_[j].row].active;
   Iterate x;
   x.u = u;
   x.ln.resize(m), x.lt.resize(m);
@@ -604,6 +607,26 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     const double du = s * dx.head(n).norm();
     int changes = 0;
     for (std::size_t j = 0; j < m; ++j) changes += trial.sets[j] != x.sets[j];
+    // A row landing at the step's end that, pressing and slipping at the
+    // friction factor's bound, lifts off: its bound m k w does not vanish
+    // with the pressure, so pressing its friction lifts it off, free it
+    // penetrates, and it may have no solution there (ncp.hpp, grazing).
+    // Where the inner face of the ring at m = 1 folds onto the die (72 x
+    // 48), such a row pressing at its bound ended with -264 N, and its
+    // turns moved 10 to 60 rows beside the sticking zone between stick and
+    // slip at each iteration: the solve ran out of its 40 iterations (30
+    // of 38 failures there). Past the landing the row presses and has a
+    // solution: the stepper tries the step there (StepView::at_landing).
+    for (std::size_t j = 0; j < m && v.at_landing; ++j) {
+      const RowNcp &was = x.ncp[j], &is = trial.ncp[j];
+      if (!open_at_start[j] || !was.active || was.stick || was.grazing || is.active || red_[j].one_direction ||
+          friction_[red_[j].row].kind != RowFriction::Kind::Tresca)
+        continue;
+      out.reason = "ssn: the row of node " + std::to_string((*rows_)[red_[j].row].kin.nodes[0]) +
+                   " landing at the step's end lifts off when it presses at its friction bound";
+      break;
+    }
+    if (!out.reason.empty()) break;
     // Cycling is a few rows changing by turns; many rows changing at once
     // is the sets being found (a cold start).
     const bool few = static_cast<std::size_t>(changes) <= std::max(kFewChanges, m / 10);

@@ -18,6 +18,7 @@ void add(RunOutcome& run, const RunOutcome& more) {
   run.remesh = more.remesh;
   run.steps = more.steps;
   run.total_newton_iterations += more.total_newton_iterations;
+  run.discarded_newton_iterations += more.discarded_newton_iterations;
   run.total_cuts += more.total_cuts;
   run.step_rejections += more.step_rejections;
   run.retunes += more.retunes;

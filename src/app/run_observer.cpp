@@ -295,6 +295,7 @@ std::string RunObserver::finish(const RunOutcome& out) {
   if (const std::string gmsh = gmsh_module_path(); !gmsh.empty()) summary_.insert_or_assign("gmsh_module", gmsh);
   if (!out.finished) summary_.insert_or_assign("reason", out.reason);
   summary_.insert_or_assign("total_newton_iterations", out.total_newton_iterations);
+  summary_.insert_or_assign("discarded_newton_iterations", out.discarded_newton_iterations);
   summary_.insert_or_assign("total_step_cuts", out.total_cuts);
   if (scene_.stepping.tolerance > 0) summary_.insert_or_assign("total_step_rejections", out.step_rejections);
   summary_.insert_or_assign("total_contact_retunes", out.retunes);

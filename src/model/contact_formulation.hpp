@@ -55,6 +55,12 @@ struct StepView {
   double time = 0;  // s, at the start of the step
   double dt = 0;    // s
   int step = 0;
+  // Whether landing control shortened the step to end where a slave lands
+  // (model/stepper.cpp). A treatment that finds a landing row with no
+  // solution there (at zero gap and zero force its friction lifts it off,
+  // free it penetrates) may fail the solve at once: the stepper then tries
+  // the step past the landing, where the row presses.
+  bool at_landing = false;
 };
 
 // Receives the contact terms at nodal velocities: the term's energy

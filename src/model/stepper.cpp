@@ -113,6 +113,7 @@ class Runner {
     Index quality_element = -1;  // its element
     std::vector<std::string> events;  // the contact events of all its solves, failed or not
     double estimate = 0;              // step control: the local error estimate (model/step_control.hpp)
+    int iterations = 0;               // Newton iterations of all its solves, failed or not
   };
   // Scales, materials, the run's start for the observer.
   void set_up();
@@ -197,6 +198,8 @@ class Runner {
   // iterates on core_in_sleeve), and a first attempt's solve is never
   // changed by it.
   bool retry_ = false;
+  // The attempt being solved ends at a landing (StepView::at_landing).
+  bool at_landing_ = false;
   static constexpr int kRetryWatchdog = 6;
   // Steps whose exact friction law was violated beyond kFrictionTolerance
   // (ContactRecord::friction_violation), and the worst.
@@ -216,6 +219,7 @@ StepView Runner::view(const State& st, int step, double dt) const {
   v.time = st.time;
   v.dt = dt;
   v.step = step;
+  v.at_landing = at_landing_;
   return v;
 }
 
@@ -614,6 +618,7 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   Solution mid;
   auto failed = [&](const Solution& f, const std::string& why) {
     out.rcond = f.rcond, out.stalled = f.stalled, out.factorized = true;
+    out.iterations = f.iterations + (&f != &mid ? mid.iterations : 0);
     if (&f != &mid) out.events = mid.events;
     out.events.insert(out.events.end(), f.events.begin(), f.events.end());
     return why;
@@ -650,12 +655,14 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   if (!(mq.min_gauss_jacobian > 0)) {
     out.inverted = true;
     out.events = mid.events;
+    out.iterations = mid.iterations;
     return element_name(mq.worst_gauss_element) + " inverts at a Gauss point (Jacobian determinant " +
            sci(mq.min_gauss_jacobian) + " mm^2; min scaled Jacobian " + sci(q) + ")";
   }
   if (!(q > -std::max(kReflexTolerance, 2 * last_penetration_rel_))) {
     out.inverted = true;
     out.events = mid.events;
+    out.iterations = mid.iterations;
     return element_name(mq.worst_jacobian_element) + " inverts (min scaled Jacobian " + sci(q) + ")";
   }
   out.sol = solve(out.next, mover->v, step, dt, nullptr, start_moves(), start_anticipates());
@@ -666,6 +673,7 @@ std::string Runner::attempt(const State& st, const Solution& sol, int step, doub
   out.events = out.sol.events;
   out.sol.iterations += mid.iterations;
   out.sol.solves += mid.solves;
+  out.iterations = out.sol.iterations;
   return "";
 }
 
@@ -677,7 +685,10 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   double dt = std::min(increment, end - st.stroke) / derived_.reference_speed;
   const std::optional<double> lim = contact_.limit_dt(view(st, step, dt), sol.v);
   const bool to_landing = lim && *lim < dt;
+  const double nominal_dt = dt;
   if (to_landing) dt = *lim;
+  const double landing_dt = dt;
+  bool past_landing = false;  // the step retried past its landing (below)
   Attempt a;
   int cuts = 0, redone = 0;
   bool landed = to_landing;
@@ -688,14 +699,16 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
   // settled); its events are reported as a failed attempt's.
   const std::any start_state = contact_.save_state();
   const auto discard = [&] {
+    out_.discarded_newton_iterations += a.iterations;
     obs_.on_discarded(step, a.events);
     contact_.restore_state(start_state);
   };
   for (;;) {
     a = Attempt{};
     retry_ = cuts > 0;
+    at_landing_ = landed;
     std::string why = attempt(st, sol, step, dt, a);
-    retry_ = false;
+    retry_ = at_landing_ = false;
     // A step that takes the least scaled Jacobian below the floor counts as
     // failed where the run remeshes.
     const bool poor = why.empty() && scene_.remesh.enabled && a.quality < scene_.remesh.reject_below;
@@ -769,6 +782,22 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
       return false;
     }
     discard();
+    // A step that failed ending at a landing is tried once at its length
+    // without the landing, the node landing within it and ending the step
+    // pressing. At the landing the row ends at zero gap and zero force, on
+    // both sides of its contact condition at once; an enforcement that
+    // cannot settle it there fails, and halvings leave the same landing to
+    // the next step, ended at it again (the remeshed ring at m = 1 under
+    // ssn: 13 failed attempts of 40 Newton iterations a landing, the step
+    // halved each time down to 2e-6 mm). If that fails too, the halvings
+    // go on from the landing.
+    if (to_landing && cuts == 0 && !past_landing) {
+      past_landing = true, landed = false;
+      obs_.on_retry(step, nominal_dt, why + "; tried again past the landing it ended at");
+      dt = nominal_dt;
+      continue;
+    }
+    if (past_landing && cuts == 0) dt = landing_dt;
     obs_.on_retry(step, 0.5 * dt, why);
     dt *= 0.5;
     ++cuts;

@@ -109,7 +109,10 @@ struct RunOutcome {
   std::string remesh;
   std::string reason;  // why the run stopped early
   int steps = 0;       // recorded steps after step 0
-  int total_newton_iterations = 0;
+  int total_newton_iterations = 0;  // of the kept steps' solves
+  // Of the attempts not kept: failed, redone shorter, or solved again
+  // with the treatment's parameters changed.
+  int discarded_newton_iterations = 0;
   int total_cuts = 0;
   int step_rejections = 0;  // steps redone shorter by the step control (stepping.tolerance)
   // Steps solved again from their start with the contact treatment's

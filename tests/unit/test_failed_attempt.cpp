@@ -37,34 +37,21 @@ struct Collect : StepObserver {
   void on_discarded(int step, const std::vector<std::string>& events) override { discarded.push_back({step, events}); }
 };
 
-// Forwards to `inner`; at step `step` makes the first attempt's solves fail
-// (its own solver, reporting no convergence), from the solve after the
-// first settle that reported an event (after_change) or from the step's
-// first solve, until the next solve starts (the retry's).
-struct FailOnce : ContactFormulation {
+// Forwards every call to `inner`, and makes a solve fail (its own solver,
+// reporting no convergence) while `failing`.
+struct Forwarding : ContactFormulation {
   struct Failing : StepSolver {
     SolveOutcome solve(const StepView&, StepProblem&, Vec&) override { return {false, 0, 0, "forced to fail"}; }
   };
   ContactFormulation& inner;
-  int step;
-  bool after_change;
-  bool armed = true, failing = false, failed = false;
+  bool failing = false;
   Failing fail;
-  FailOnce(ContactFormulation& c, int k, bool after) : inner(c), step(k), after_change(after) {}
+  explicit Forwarding(ContactFormulation& c) : inner(c) {}
 
   ContactInfo info() const override { return inner.info(); }
-  void begin_step(const StepView& v) override {
-    if (failing) failing = false, failed = true;  // the failed attempt is over
-    if (armed && !after_change && v.step == step) armed = false, failing = true;
-    inner.begin_step(v);
-  }
+  void begin_step(const StepView& v) override { inner.begin_step(v); }
   StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override {
-    StepCheck c = inner.settle(v, vel, F);
-    if (armed && after_change && v.step == step && !c.events.empty()) {
-      armed = false, failing = true;
-      c.resolve = true;  // solved again: by the failing solver
-    }
-    return c;
+    return inner.settle(v, vel, F);
   }
   StepSolver* solver() override { return failing ? &fail : inner.solver(); }
   bool fall_back() override { return !failing && inner.fall_back(); }
@@ -92,16 +79,46 @@ struct FailOnce : ContactFormulation {
   }
 };
 
+// At step `step` makes the first attempt's solves fail, from the solve
+// after the first settle that reported an event (after_change) or from the
+// step's first solve, until the next solve starts (the retry's).
+struct FailOnce : Forwarding {
+  int step;
+  bool after_change;
+  bool armed = true, failed = false;
+  FailOnce(ContactFormulation& c, int k, bool after) : Forwarding(c), step(k), after_change(after) {}
+
+  void begin_step(const StepView& v) override {
+    if (failing) failing = false, failed = true;  // the failed attempt is over
+    if (armed && !after_change && v.step == step) armed = false, failing = true;
+    inner.begin_step(v);
+  }
+  StepCheck settle(const StepView& v, const std::vector<Vec2>& vel, const std::vector<Vec2>& F) override {
+    StepCheck c = inner.settle(v, vel, F);
+    if (armed && after_change && v.step == step && !c.events.empty()) {
+      armed = false, failing = true;
+      c.resolve = true;  // solved again: by the failing solver
+    }
+    return c;
+  }
+};
+
+// Test I's single action, coarse, to 1 mm in steps of 0.1 mm.
+CaseFile sphere_case(bool landing_control) {
+  return CaseFile(std::string(RPFEM_SOURCE_DIR) + "/cases/paper_test1_single_action.toml",
+                  {"bodies.sphere.mesh.n=4", "bodies.sphere.mesh.layers=4", "stepping.end_stroke=1.0",
+                   "stepping.stroke_increment=0.1", "stepping.relative_increment=0.0",
+                   std::string("contact.landing_control=") + (landing_control ? "true" : "false"),
+                   "contact.landing_overshoot=0.0"});
+}
+
 struct SphereRun {
   Collect out;
   RunOutcome outcome;
   bool failed = false;
   // step < 0: no failure.
   SphereRun(int step, bool after_change) {
-    CaseFile file(std::string(RPFEM_SOURCE_DIR) + "/cases/paper_test1_single_action.toml",
-                  {"bodies.sphere.mesh.n=4", "bodies.sphere.mesh.layers=4", "stepping.end_stroke=1.0",
-                   "stepping.stroke_increment=0.1", "stepping.relative_increment=0.0", "contact.landing_control=false",
-                   "contact.landing_overshoot=0.0"});
+    CaseFile file = sphere_case(false);
     const Scene scene = read_scene(file);
     const auto contact = make_contact(file, scene, {"direct", ""});
     FailOnce wrapped(*contact, step, after_change);
@@ -162,4 +179,55 @@ TEST(FailedAttempt, TheRetryStartsFromTheStepsContactState) {
               k, dx, load);
   EXPECT_LT(dx, 1e-9);
   EXPECT_LT(load, 1e-7);
+}
+
+namespace {
+
+// Every solve of an attempt that ends at a landing (StepView::at_landing)
+// fails: an enforcement that cannot settle a row landing at the step's end.
+struct FailAtLanding : Forwarding {
+  int failures = 0;
+  using Forwarding::Forwarding;
+  void begin_step(const StepView& v) override {
+    failing = v.at_landing;
+    failures += failing;
+    inner.begin_step(v);
+  }
+};
+
+}  // namespace
+
+// A step that fails ending at a landing is tried once past it, at its
+// nominal length: no halvings, and no later step ends at that landing again
+// (halved, the step ends short of the landing, and the next one, shortened
+// to it, fails the same way: 13 failed attempts a landing on the remeshed
+// ring under ssn).
+TEST(FailedAttempt, AStepFailingAtALandingIsTriedPastIt) {
+  CaseFile file = sphere_case(true);
+  const Scene scene = read_scene(file);
+  const auto clean_contact = make_contact(file, scene, {"direct", ""});
+  Collect clean;
+  const RunOutcome clean_outcome = run_scene(scene, *clean_contact, clean);
+  ASSERT_TRUE(clean_outcome.finished) << clean_outcome.reason;
+  const long landings =
+      std::count_if(clean.steps.begin(), clean.steps.end(), [](const StepRecord& r) { return r.landing; });
+  ASSERT_GT(landings, 0) << "no step ends at a landing: the scene no longer tests this";
+
+  const auto contact = make_contact(file, scene, {"direct", ""});
+  FailAtLanding wrapped(*contact);
+  Collect out;
+  const RunOutcome outcome = run_scene(scene, wrapped, out);
+  ASSERT_TRUE(outcome.finished) << outcome.reason;
+  EXPECT_GT(wrapped.failures, 0);
+  EXPECT_EQ(outcome.total_cuts, 0);
+  EXPECT_NEAR(out.steps.back().stroke, 1.0, 1e-9);
+  for (const StepRecord& r : out.steps) {
+    EXPECT_EQ(r.cuts, 0) << "step " << r.step;
+    EXPECT_FALSE(r.landing) << "step " << r.step;
+  }
+  // Each failed landing is followed by the step at its nominal length.
+  EXPECT_LE(out.steps.size(), clean.steps.size());
+  std::printf("[measured] %ld landing steps in the clean run; %d solves failed at a landing, %zu steps against %zu, "
+              "no halvings\n",
+              landings, wrapped.failures, out.steps.size(), clean.steps.size());
 }
