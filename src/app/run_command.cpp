@@ -85,10 +85,15 @@ int run_one(const RunOptions& opt, const Variant* variant, const std::string& ou
                  out_dir.c_str());
     return 3;
   }
-  if (!opt.quiet)
-    std::printf("finished: %d steps, %d Newton iterations; final load %s; %zu warning%s; results in %s\n", out.steps,
-                out.total_newton_iterations, obs.final_loads_text().c_str(), out.warnings.size(),
-                out.warnings.size() == 1 ? "" : "s", out_dir.c_str());
+  if (!opt.quiet) {
+    const std::string discarded = out.discarded_newton_iterations > 0
+                                      ? " (and " + std::to_string(out.discarded_newton_iterations) +
+                                            " in attempts not kept)"
+                                      : "";
+    std::printf("finished: %d steps, %d Newton iterations%s; final load %s; %zu warning%s; results in %s\n",
+                out.steps, out.total_newton_iterations, discarded.c_str(), obs.final_loads_text().c_str(),
+                out.warnings.size(), out.warnings.size() == 1 ? "" : "s", out_dir.c_str());
+  }
   return 0;
 }
 
