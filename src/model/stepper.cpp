@@ -769,6 +769,23 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     // A fresh mesh (the run's first, or a remesh's) whose first step falls
     // below the floor: halved like a failing step, the last halving taken.
     if (poor && cuts == scene_.stepping.max_cuts) break;
+    // A step that failed ending at a landing is tried once at its length
+    // without the landing, the node landing within it and ending the step
+    // pressing. At the landing the row ends at zero gap and zero force, on
+    // both sides of its contact condition at once; an enforcement that
+    // cannot settle it there fails, and halvings leave the same landing to
+    // the next step, ended at it again (the remeshed ring at m = 1 under
+    // ssn: 13 failed attempts of 40 Newton iterations a landing, the step
+    // halved each time down to 2e-6 mm). If that fails too, the halvings
+    // go on from the landing. A solve's failure only: a longer step
+    // distorts the mesh further.
+    if (to_landing && cuts == 0 && !past_landing && !poor && !a.inverted) {
+      discard();
+      past_landing = true, landed = false;
+      obs_.on_retry(step, nominal_dt, why + "; tried again past the landing it ended at");
+      dt = nominal_dt;
+      continue;
+    }
     if (cuts == scene_.stepping.max_cuts) {
       out_.reason = "step " + std::to_string(step) + " at stroke " + std::to_string(st.stroke) + " mm failed after " +
                     std::to_string(cuts) + " step halvings: " + why +
@@ -782,21 +799,6 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
       return false;
     }
     discard();
-    // A step that failed ending at a landing is tried once at its length
-    // without the landing, the node landing within it and ending the step
-    // pressing. At the landing the row ends at zero gap and zero force, on
-    // both sides of its contact condition at once; an enforcement that
-    // cannot settle it there fails, and halvings leave the same landing to
-    // the next step, ended at it again (the remeshed ring at m = 1 under
-    // ssn: 13 failed attempts of 40 Newton iterations a landing, the step
-    // halved each time down to 2e-6 mm). If that fails too, the halvings
-    // go on from the landing.
-    if (to_landing && cuts == 0 && !past_landing) {
-      past_landing = true, landed = false;
-      obs_.on_retry(step, nominal_dt, why + "; tried again past the landing it ended at");
-      dt = nominal_dt;
-      continue;
-    }
     if (past_landing && cuts == 0) dt = landing_dt;
     obs_.on_retry(step, 0.5 * dt, why);
     dt *= 0.5;
