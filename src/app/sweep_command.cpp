@@ -137,6 +137,7 @@ struct Outcome {
   double mean_load_error = -1;  // |mean load / the reference's - 1|
   double max_relative = -1;     // what stepping.tolerance bounds (max_relative_load_error)
   double rejections = -1;       // summary.json total_step_rejections (step control only)
+  double discarded = -1;        // summary.json discarded_newton_iterations
   bool finished = false;
   double mean_load = -1;  // kN, over the strokes from the study's `from`
   std::optional<double> monitor_final;  // the monitor at the last stroke (any sign: not a table column)
@@ -164,6 +165,7 @@ Outcome outcome(const PoolRun& r, const Study& st, const History& ref) {
     if (c == ',' || c == '"' || c == '\n') c = ';';  // one CSV cell
   o.per_step = s.number("time_per_step_s").value_or(-1.0);
   o.rejections = s.number("total_step_rejections").value_or(-1.0);
+  o.discarded = s.number("discarded_newton_iterations").value_or(-1.0);
   o.formulation = r.formulation.empty() ? s.string("formulation").value_or("") : r.formulation;
   return o;
 }
@@ -342,6 +344,7 @@ std::map<std::string, double> measured(const Outcome& o, const PoolRun& r) {
           {"iterations_median", o.m.iterations_median},
           {"iterations_max", o.m.iterations_max},
           {"iterations_per_solve_median", o.m.iterations_per_solve_median},
+          {"iterations_discarded", o.discarded},
           {"rcond", o.m.rcond},
           {"wall_time_s", r.seconds},
           {"time_per_step_s", o.per_step}};
@@ -359,7 +362,8 @@ Table sweep_table(const SweepPlan& plan, const std::vector<Outcome>& out) {
                         "penetration_rel", "load_error", "load_error_final", "mean_load_error", "load_error_max_rel",
                         "step_rejections", "monitor_error",
                         "monitor_error_final", "volume_error", "iterations_mean", "iterations_median",
-                        "iterations_max", "iterations_per_solve_median", "rcond", "wall_time_s", "time_per_step_s",
+                        "iterations_max", "iterations_per_solve_median", "iterations_discarded", "rcond",
+                        "wall_time_s", "time_per_step_s",
                         "reason"})
     t.columns.push_back(c);
   for (std::size_t i = 0; i < out.size(); ++i) {

@@ -41,6 +41,7 @@ ok = all(r["finished"] == "1" for r in rows)
 # Penetration and load error fall with beta (the penalty's compliance).
 ok &= pen[0] > 1e2 * pen[1] > 1e4 * pen[2] > 0 and err[0] > err[1] > 0
 ok &= all(float(r["rcond"]) > 0 for r in rows) and float(rows[2]["rcond"]) < float(rows[0]["rcond"])
+ok &= all(float(r["iterations_discarded"]) >= 0 for r in rows)  # read from each run's summary.json
 with h5py.File(d + "/sweep.h5") as f:
     ok &= list(f["table/finished"][:]) == [1, 1, 1]
     ok &= f["table"].attrs["columns"].decode().startswith("run,dir,formulation,")
