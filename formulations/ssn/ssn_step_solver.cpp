@@ -458,9 +458,6 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
   for (const Reduced& r : red_) in_solve[r.row] = 1;
   for (std::size_t j = 0; j < rows_->size(); ++j)
     if (!in_solve[j]) (*state_)[j] = {};
-  // Rows open at the start.
-  std::vector<char> open_at_start(m);
-  for (std::size_t j = 0; j < m; ++j) open_at_start[j] = !(*state_)[red_[j].row].active;
   Iterate x;
   x.u = u;
   x.ln.resize(m), x.lt.resize(m);
@@ -614,12 +611,13 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     // Where the inner face of the ring at m = 1 folds onto the die (72 x
     // 48), such a row pressing at its bound ended with -264 N, and its
     // turns moved 10 to 60 rows beside the sticking zone between stick and
-    // slip at each iteration: the solve ran out of its 40 iterations (30
-    // of 38 failures there). Past the landing the row presses and has a
-    // solution: the stepper tries the step there (StepView::at_landing).
+    // slip at each iteration: the solve ran out of its 40 iterations. Past
+    // the landing the row presses and has a solution: the stepper tries
+    // the step there (StepView::at_landing). Open at the start: not active
+    // in the state the solve started from (written only when it converges).
     for (std::size_t j = 0; j < m && v.at_landing; ++j) {
       const RowNcp &was = x.ncp[j], &is = trial.ncp[j];
-      if (!open_at_start[j] || !was.active || was.stick || was.grazing || is.active || red_[j].one_direction ||
+      if ((*state_)[red_[j].row].active || !was.active || was.stick || was.grazing || is.active || red_[j].one_direction ||
           friction_[red_[j].row].kind != RowFriction::Kind::Tresca)
         continue;
       out.reason = "ssn: the row of node " + std::to_string((*rows_)[red_[j].row].kin.nodes[0]) +

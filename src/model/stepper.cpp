@@ -191,8 +191,9 @@ class Runner {
   // none): the reach of a corner's reflex angle that is not an inversion
   // (attempt()).
   double last_penetration_rel_ = 0;
-  // The solves of a step tried again after a failed attempt (or of the
-  // first configuration after its solve failed) run Newton with the
+  // The solves of a step halved after a failed attempt (or of the first
+  // configuration after its solve failed; not the attempt past a landing,
+  // a step of another length and not a repeat) run Newton with the
   // watchdog (solver/newton.hpp), after kRetryWatchdog iterations without
   // |R| halving: longer than the anchored merit's cycles seen (2 to 5
   // iterates on core_in_sleeve), and a first attempt's solve is never

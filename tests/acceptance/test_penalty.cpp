@@ -110,7 +110,7 @@ TEST(Penalty, AdaptivePenaltyKeepsThePenetrationToleranceOnCoreInSleeve) {
 // after the remesh at 4.40 mm failed at every halving (five iterates
 // repeating, |R| 8.7e-3 to 0.18 of the force scale), and two pass failed
 // its first solve (|R| 0.55). The retries' watchdog finds both; with two
-// pass the run still stops at 4.50 mm (docs/decisions.md).
+// pass the run still stops at 4.92 mm (docs/decisions.md).
 //~ feature = "newton_watchdog"
 //~ scene = "core_in_sleeve under penalty with one-pass dual mortar rows (to 5 mm, remeshed at 4.40 mm) and with two pass (to 0.2 mm)"
 //~ source = "Chamberlain, Powell, Lemarechal and Pedersen 1982 (the watchdog technique); Nocedal and Wright 2006, sec. 15.6"
