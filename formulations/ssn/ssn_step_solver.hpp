@@ -48,10 +48,12 @@
 // landing at the step's end with no force, a row at a neutral point) is
 // held on its last branch; once the iteration converges on the sets held,
 // a held row whose own set differs is released and the iteration goes on,
-// so the solution met is the true one. A row that lands and lifts off by
-// turns under the friction factor is held grazing instead (ncp.hpp), and
-// kept there if its friction force then lies within its bound and opposes
-// its slip. In a step that ends at a landing (StepView::at_landing), a row
+// so the solution met is the true one. In a cold solve (a run's first,
+// the first after a remesh) each such round has the scene's iteration
+// budget, as each contact pass of the other enforcements has. A row that
+// lands and lifts off by turns under the friction factor is held grazing
+// instead (ncp.hpp), and kept there if its friction force then lies within
+// its bound and opposes its slip. In a step that ends at a landing (StepView::at_landing), a row
 // open at the start that lifts off from pressing and slipping at the
 // friction factor's bound fails the solve at once: such a row may have no
 // solution there, and the stepper tries the step past the landing
@@ -94,6 +96,7 @@ struct SsnRowState {
 struct SsnSolveStats {
   int iterations = 0, halvings = 0, set_changes = 0;
   int holds = 0;  // rows held on their branch after cycling
+  int rounds = 0;  // releases of held rows that started a new round (cold solves)
   int grazing = 0;  // rows ending grazing
   int condensed = 0;  // Newton steps solved with the rows condensed
   int augmented = 0;  // Newton steps solved by the augmented Lagrangian on K

@@ -59,7 +59,7 @@ void PrintTo(const SsnScene& s, std::ostream* os) { *os << s.name << " " << s.la
 class SsnConditions : public testing::TestWithParam<SsnScene> {};
 
 //~ feature = "ssn"
-//~ scene = "paper_test2_die (as it ships, and on the half mesh to 0.5 mm under Euler step control at 1e-3), paper_test2_virtual_rigid, ring m0.1, m1 and mu0.1, upsetting mu0.1, core_in_sleeve (node to segment and dual mortar rows), the remeshed ring at m = 1 (24 x 16, to 60 %), Test I double action to 3 mm (node to segment), each under ssn"
+//~ scene = "paper_test2_die (as it ships, and on the half mesh to 0.5 mm under Euler step control at 1e-3), paper_test2_virtual_rigid, ring m0.1, m1 and mu0.1, upsetting mu0.1, core_in_sleeve (node to segment and dual mortar rows), the remeshed ring at m = 1 (24 x 16, to 60 %) and at m = 0.1 on its 72 x 48 mesh (from rest to 0.3 mm), Test I double action to 3 mm (node to segment), each under ssn"
 //~ source = "Hueber, Stadler and Wohlmuth 2008 (the conditions as complementarity functions); paper eq. 6 and 10"
 //~ uses = ["expect_conditions"]
 //~ [[check]]
@@ -90,6 +90,10 @@ INSTANTIATE_TEST_SUITE_P(
                     // row held frictionless (ssn_step_solver.hpp, one_direction).
                     SsnScene{"CoreInSleeveMortar", "core_in_sleeve", "ssn+mortar", ""},
                     SsnScene{"RingRemeshedM1", "ring_compression_remeshed", "ssn", ""},
+                    // A first solve that finds its sets in 4 rounds (58
+                    // iterations): each round has the iteration budget.
+                    SsnScene{"RingRemeshedFineM01FromRest", "ring_compression_remeshed", "ssn",
+                             "--variant m1 --set dies.top_die.friction.m=0.1 --set stepping.end_stroke=0.3"},
                     SsnScene{"TestIDoubleAction", "paper_test1_double_action", "ssn+node_to_segment",
                              "--set stepping.end_stroke=3"}),
     [](const testing::TestParamInfo<SsnScene>& p) { return p.param.test; });
@@ -246,4 +250,21 @@ TEST(Ssn, RingM1LandingsWithoutASolutionAreSteppedPast) {
   std::printf("[measured] ring m = 1: Newton iterations a step, ssn %.2f, direct (arctan, a = 1e-3) %.2f\n", ssn,
               direct);
   EXPECT_LE(ssn, direct);
+}
+
+//~ feature = "ssn"
+//~ scene = "ring_compression m1 under ssn with formulations.ssn.c_tangential = 10, to 0.1 mm"
+//~ source = "the parameter's measured range (docs/decisions.md, ssn)"
+//~ [[check]]
+//~ what = "the run stops at its first solve, exit code 3, and the stop reason names formulations.ssn.c_tangential and its default"
+//~ compares = "expected behaviour"
+//~ tolerance = "exact"
+//~ why = "a parameter that changes only the iteration's path can still stop it; the user is told which and what to set"
+TEST(Ssn, ALargeTangentialParameterThatStopsTheRunIsNamed) {
+  const std::string dir = run_case(
+      "ring_compression", "--formulation ssn --variant m1 --set formulations.ssn.c_tangential=10 --set stepping.end_stroke=0.1",
+      3);
+  const std::string summary = read_text(dir + "/summary.json");
+  EXPECT_NE(summary.find("formulations.ssn.c_tangential = 10 is above 1"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("try the default 0.1"), std::string::npos) << summary;
 }
