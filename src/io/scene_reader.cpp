@@ -203,6 +203,7 @@ RunLimits read_run(CaseSection run, const std::string& file, Scene& sc) {
   lim.max_elements = run.integer("max_elements", 2000000, 1, kMost);
   lim.max_nodes = run.integer("max_nodes", 2500000, 1, kMost);
   lim.max_steps = run.integer("max_steps", 10000000, 1, kMost);
+  sc.max_elements = lim.max_elements, sc.max_nodes = lim.max_nodes;
   return lim;
 }
 

@@ -235,6 +235,15 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const Reme
     st.strain.insert(st.strain.end(), part.strain.begin(), part.strain.end());
   }
   out.scene.mesh = std::move(mesh);
+  // Within the run's limits, as the case's meshes are (io/scene_reader.cpp):
+  // a size from the error at a singular point can refine without bound
+  // short of remesh.min_size.
+  const Index ne = out.scene.mesh.num_elements(), nn = out.scene.mesh.num_nodes();
+  if (ne > scene.max_elements || nn > scene.max_nodes)
+    throw InputError(scene.file + ": the new mesh has " + std::to_string(ne) + " elements and " + std::to_string(nn) +
+                             " nodes; expected at most run.max_elements = " + std::to_string(scene.max_elements) +
+                             " and run.max_nodes = " + std::to_string(scene.max_nodes) +
+                             " (raise them in [run], or coarsen the remesh: remesh.element_size, remesh.min_size)");
   return out;
 }
 

@@ -186,6 +186,10 @@ struct Scene {
   // Least scaled Jacobian a run without remeshing accepts without a
   // warning (run.min_scaled_jacobian).
   double min_scaled_jacobian = 0.1;
+  // The most elements and nodes over all bodies (run.max_elements,
+  // run.max_nodes): the case's meshes are checked as they are read, a
+  // remesh's as it is made (model/remesh.hpp).
+  Index max_elements = 2000000, max_nodes = 2500000;
 
   // The largest prescribed speed (dies and velocity groups), mm/s.
   double largest_speed() const {

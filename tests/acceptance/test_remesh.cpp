@@ -142,3 +142,22 @@ TEST_P(RemeshBodies, ContactBetweenBodiesIsTakenOver) {
 }
 
 INSTANTIATE_TEST_SUITE_P(OnePass, RemeshBodies, ::testing::Values("penalty+mortar", "ipopt+mortar"));
+
+//~ feature = "remeshing"
+//~ scene = "ring_compression_remeshed (24 x 16: 384 elements) under direct with run.max_elements = 400; its first remesh, at 1.45 mm, makes 468"
+//~ source = "run.max_elements (docs/case-format.md): the case's meshes and every remesh's within it"
+//~ [[check]]
+//~ what = "the run stops at the remesh, exit code 3, the reason naming the new mesh's size and run.max_elements, the steps before it saved"
+//~ compares = "expected behaviour"
+//~ tolerance = "exact"
+//~ why = "a size from the error can refine without bound; a run past the limit it was given would take memory it was told not to"
+TEST(RemeshLimits, AMeshPastMaxElementsStopsTheRun) {
+  const std::string dir =
+      run_case("ring_compression_remeshed", "--formulation direct --set run.max_elements=400", 3);
+  const std::string summary = read_text(dir + "/summary.json");
+  EXPECT_NE(summary.find("the new mesh has 468 elements"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("expected at most run.max_elements = 400"), std::string::npos) << summary;
+  const History h = read_history(dir + "/history.csv");
+  ASSERT_GT(h.rows(), 1u);
+  EXPECT_NEAR(h.at("stroke")[h.rows() - 1], 1.45, 1e-9);  // the step the remesh followed
+}
