@@ -240,10 +240,10 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const Reme
   // short of remesh.min_size.
   const Index ne = out.scene.mesh.num_elements(), nn = out.scene.mesh.num_nodes();
   if (ne > scene.max_elements || nn > scene.max_nodes)
-    throw InputError(scene.file + ": the new mesh has " + std::to_string(ne) + " elements and " + std::to_string(nn) +
-                             " nodes; expected at most run.max_elements = " + std::to_string(scene.max_elements) +
-                             " and run.max_nodes = " + std::to_string(scene.max_nodes) +
-                             " (raise them in [run], or coarsen the remesh: remesh.element_size, remesh.min_size)");
+    throw InputError(scene.file + ": the new mesh has " + std::to_string(ne) + " elements and " +
+                     std::to_string(nn) + " nodes; expected at most run.max_elements = " +
+                     std::to_string(scene.max_elements) + " and run.max_nodes = " + std::to_string(scene.max_nodes) +
+                     " (raise them in [run], or coarsen the remesh: remesh.element_size, remesh.min_size)");
   return out;
 }
 
