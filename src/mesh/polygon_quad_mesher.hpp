@@ -36,7 +36,8 @@ struct PolygonQuadMesh {
 // Meshes the polygon: gmsh's frontal-Delaunay algorithm (Mesh.Algorithm 6),
 // else Delaunay's (5) or MeshAdapt (1), recombined into quadrilaterals by
 // Blossom matching (Mesh.RecombinationAlgorithm 1); where each leaves a
-// triangle, the mesh at twice the size is split into quadrilaterals
+// triangle, the same at sizes 3 and 6 % off the target; where those do
+// too, the mesh at twice the size is split into quadrilaterals
 // (Mesh.SubdivisionAlgorithm 1; every line gets a midpoint). Not
 // frontal-Delaunay for quads (Mesh.Algorithm 8): Debian's gmsh 4.8.4
 // crashes in it (its cross field's octree); not the full-quad Blossom
