@@ -53,11 +53,12 @@
 // budget, as each contact pass of the other enforcements has. A row that
 // lands and lifts off by turns under the friction factor is held grazing
 // instead (ncp.hpp), and kept there if its friction force then lies within
-// its bound and opposes its slip. In a step that ends at a landing
-// (StepView::at_landing), a row open at the start that lifts off from
-// pressing and slipping at the friction factor's bound fails the solve at
-// once: such a row may have no solution there, and the stepper tries the
-// step past the landing (docs/theory.md, section 8).
+// its bound and opposes its slip. A row that ends slipping along its own
+// friction force is held sticking (at most kMaxRehold times). In a step
+// that ends at a landing (StepView::at_landing), a row open at the start
+// that lifts off from pressing and slipping at the friction factor's bound
+// fails the solve at once: such a row may have no solution there, and the
+// stepper tries the step past the landing (docs/theory.md, section 8).
 // c_j (N s/mm) is the enforcement's (ssn_enforcement.hpp).
 #pragma once
 #include <functional>

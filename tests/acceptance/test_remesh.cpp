@@ -161,3 +161,27 @@ TEST(RemeshLimits, AMeshPastMaxElementsStopsTheRun) {
   ASSERT_GT(h.rows(), 1u);
   EXPECT_NEAR(h.at("stroke")[h.rows() - 1], 1.45, 1e-9);  // the step the remesh followed
 }
+
+//~ feature = "remeshing"
+//~ scene = "ring_compression_remeshed (24 x 16) under direct with remesh.min_scaled_jacobian = 0.95 and remesh.reject_below = 0.9: each new mesh (least scaled Jacobian about 0.6) falls below the floor within its first step, whose halvings take it a 64th of an increment"
+//~ source = "the remeshing driver (src/app/remeshing_run.cpp): five remeshes in a row must advance the stroke by one step's increment"
+//~ [[check]]
+//~ what = "the run stops with exit code 3 at its fifth remesh without advance, the reason naming the strokes, the increment and remesh.reject_below, the steps before it saved"
+//~ compares = "expected behaviour"
+//~ tolerance = "exact"
+//~ why = "a run whose remeshes crawl would otherwise go on to remesh.max_remeshes, hours on a fine mesh, and end short anyway"
+TEST(RemeshLimits, RemeshesThatDoNotAdvanceStopTheRun) {
+  const std::string dir = run_case("ring_compression_remeshed",
+                                   "--formulation direct --set remesh.min_scaled_jacobian=0.95 --set remesh.reject_below=0.9",
+                                   3, "_crawl");
+  const std::string summary = read_text(dir + "/summary.json");
+  EXPECT_NE(summary.find("remeshing does not advance: the last 5 remeshes took the stroke from 0.7 to 0.70"),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("less than one step's increment (0.05 mm)"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("remesh.reject_below = 0.9"), std::string::npos) << summary;
+  const History h = read_history(dir + "/history.csv");
+  ASSERT_GT(h.rows(), 1u);
+  EXPECT_LT(h.at("stroke")[h.rows() - 1], 0.71);
+  EXPECT_GT(h.at("stroke")[h.rows() - 1], 0.7);
+}
