@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "contact/friction_treatment.hpp"
 
@@ -109,6 +111,16 @@ StepCheck SsnEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel
   return out;
 }
 
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+
+}  // namespace
+
 void SsnEnforcement::measure(const StepView& v) {
   const auto& rows = *rows_;
   // The largest over the step's solves (the midpoint scheme's half step
@@ -116,6 +128,7 @@ void SsnEnforcement::measure(const StepView& v) {
   if (v.step != measured_step_) {
     primal_ = complementarity_ = friction_ = stick_slip_ = 0, measured_step_ = v.step;
     step_stats_ = {};
+    cause_.clear();
   }
   const SsnSolveStats& solve = solver_.stats();
   step_stats_.iterations += solve.iterations;
@@ -125,6 +138,12 @@ void SsnEnforcement::measure(const StepView& v) {
   stick_ = slip_ = 0;
   double total = 0;
   for (const SsnRowState& s : state_) total += std::max(s.lambda_n, 0.0);
+  // A row's violation above the step's largest so far names the row.
+  const auto violates = [&](double by, std::size_t i, double& worst, const std::string& why) {
+    if (!(by > std::max(friction_, stick_slip_)) || !(by > kZeroSlip)) return worst = std::max(worst, by), void();
+    worst = by;
+    cause_ = "node " + std::to_string(rows[i].kin.nodes[0]) + " " + why;
+  };
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const SsnRowState& s = state_[i];
     if (rows[i].free) continue;
@@ -133,25 +152,38 @@ void SsnEnforcement::measure(const StepView& v) {
     if (total > 0) complementarity_ = std::max(complementarity_, std::abs(s.lambda_n * s.end_gap_rate) / (total * speed_scale()));
     if (!s.active || results_[i].stick == 0) continue;
     const double g = std::max(s.bound, 1e-300);
-    friction_ = std::max(friction_, std::max(0.0, std::abs(s.lambda_t) - s.bound) / g);
+    const double ratio = std::abs(s.lambda_t) / g;
     if (s.grazing) {
       // On the friction factor's jump: any force within the bound that
-      // does not drive the slip (ncp.hpp).
+      // does not drive the slip (ncp.hpp). A row left there after its
+      // rounds (ssn_step_solver.cpp) has no solution on any branch.
       ++slip_;
-      if (s.lambda_t * s.slip_rate > 0) friction_ = std::max(friction_, std::abs(s.lambda_t) / g);
+      const std::string why =
+          format("held grazing (no normal force, slip rate %.3g mm/s) with a friction force %.3g times its bound",
+                 s.slip_rate, ratio) +
+          (s.lambda_t * s.slip_rate > 0 ? " along its slip" : "") +
+          ": on the friction factor's jump, where pressing at its bound lifts it off and free it penetrates";
+      violates(std::max(0.0, ratio - 1), i, friction_, why);
+      if (s.lambda_t * s.slip_rate > 0) violates(ratio, i, friction_, why);
       continue;
     }
     if (s.stick) {
       ++stick_;
-      stick_slip_ = std::max(stick_slip_, std::abs(s.slip_rate) / speed_scale());
+      violates(ratio - 1, i, friction_, format("sticking with a friction force %.3g times its bound", ratio));
+      violates(std::abs(s.slip_rate) / speed_scale(), i, stick_slip_,
+               format("sticking while it slips at %.3g of the speed scale", std::abs(s.slip_rate) / speed_scale()));
     } else {
       ++slip_;
+      violates(ratio - 1, i, friction_, format("slipping with a friction force %.3g times its bound", ratio));
       // A slipping row whose slip rate is at round-off (the neutral point
       // reached: the solution at the kink between the sets) meets the law
       // as a sticking row, its force at the bound in either direction.
       if (std::abs(s.slip_rate) <= kZeroSlip * speed_scale()) continue;
       const double sign = s.slip_rate > 0 ? 1.0 : -1.0;
-      friction_ = std::max(friction_, std::abs(s.lambda_t + s.bound * sign) / g);
+      const double off = std::abs(s.lambda_t + s.bound * sign) / g;
+      violates(off, i, friction_,
+               format("slipping at %.3g mm/s with a friction force %.3g of its bound off the bound opposing it",
+                      s.slip_rate, off));
     }
   }
 }

@@ -49,14 +49,15 @@ class SsnEnforcement final : public ContactEnforcement {
   void columns(std::vector<NamedValue>& out) const override;
   std::optional<double> penetration_rel() const override { return primal_; }
   std::optional<double> friction_violation() const override { return std::max(friction_, stick_slip_); }
+  std::string friction_violation_cause() const override { return cause_; }
   void derived(std::vector<NamedValue>& out) const override;
   std::any save_state() const override {
     return save_members(rows_, state_, c_, results_, latest_, primal_, complementarity_, friction_, stick_slip_,
-                        measured_step_, stick_, slip_, step_stats_);
+                        measured_step_, stick_, slip_, step_stats_, cause_);
   }
   void restore_state(const std::any& saved) override {
     restore_members(saved, rows_, state_, c_, results_, latest_, primal_, complementarity_, friction_, stick_slip_,
-                    measured_step_, stick_, slip_, step_stats_);
+                    measured_step_, stick_, slip_, step_stats_, cause_);
   }
 
  private:
@@ -82,6 +83,9 @@ class SsnEnforcement final : public ContactEnforcement {
   double primal_ = 0, complementarity_ = 0, friction_ = 0, stick_slip_ = 0;
   int measured_step_ = -1;
   int stick_ = 0, slip_ = 0;
+  // The row of the largest of friction_ and stick_slip_ over the step's
+  // solves, and why, in words (friction_violation_cause()).
+  std::string cause_;
   // The solver's statistics summed over the step's solves (the midpoint
   // scheme's half step and its end; not over attempts not kept, whose
   // state restore_state undoes).

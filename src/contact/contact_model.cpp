@@ -390,6 +390,7 @@ ContactRecord ContactModel::record(const StepView& v, const std::vector<Vec2>& v
   // max_penetration_rel column.
   out.penetration_rel = enf_->penetration_rel();
   out.friction_violation = enf_->friction_violation();
+  if (out.friction_violation) out.friction_cause = enf_->friction_violation_cause();
   for (std::size_t c = 0; c < cols.size() && !out.penetration_rel; ++c)
     if (cols[c].name == "max_penetration_rel") out.penetration_rel = cols[c].value;
   return out;

@@ -72,6 +72,9 @@ class ContactEnforcement {
   // state, RowResult::stick): the last solve's largest violation of the
   // law (ContactRecord::friction_violation); nullopt without.
   virtual std::optional<double> friction_violation() const { return std::nullopt; }
+  // The row behind that violation and why, in words for the run's warning
+  // (empty: none named).
+  virtual std::string friction_violation_cause() const { return {}; }
 };
 
 }  // namespace rpfem

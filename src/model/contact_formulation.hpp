@@ -145,6 +145,7 @@ struct ContactRecord {
   // or a sticking row's slip over the speed scale); nullopt if the
   // treatment has no exact friction. The run warns above 1e-8.
   std::optional<double> friction_violation;
+  std::string friction_cause;  // the row behind it and why (empty: not named)
 };
 
 // What a treatment states once, at the start of a run.

@@ -207,6 +207,7 @@ class Runner {
   static constexpr double kFrictionTolerance = 1e-8;
   int friction_steps_ = 0, worst_friction_step_ = -1;
   double worst_friction_ = 0, worst_friction_stroke_ = 0;
+  std::string worst_friction_cause_;  // the enforcement's words for it
 };
 
 StepView Runner::view(const State& st, int step, double dt) const {
@@ -408,7 +409,9 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
     }
     if (const auto f = cr.friction_violation; f && !(*f <= kFrictionTolerance)) {
       ++friction_steps_;
-      if (!(*f <= worst_friction_)) worst_friction_ = *f, worst_friction_step_ = step, worst_friction_stroke_ = st.stroke;
+      if (!(*f <= worst_friction_))
+        worst_friction_ = *f, worst_friction_step_ = step, worst_friction_stroke_ = st.stroke,
+        worst_friction_cause_ = cr.friction_cause;
     }
     if (!scene_.remesh.enabled && quality < scene_.min_scaled_jacobian) {
       if (distorted_steps_++ == 0)
@@ -485,8 +488,10 @@ RunOutcome Runner::finish() {
     out_.warnings.push_back("exact friction met only to " + sci(worst_friction_) + " at step " +
                             std::to_string(worst_friction_step_) + " (stroke " + sci(worst_friction_stroke_) +
                             " mm), above " + sci(kFrictionTolerance) + " at " + std::to_string(friction_steps_) +
-                            " step(s) (history.csv: kkt_friction, kkt_stick_slip): a row at the kink between stick and "
-                            "slip; a smaller stepping.stroke_increment, or the arctan law (regularization = \"arctan\") "
+                            " step(s) (history.csv: kkt_friction, kkt_stick_slip): " +
+                            (worst_friction_cause_.empty() ? "a row at the kink between stick and slip"
+                                                           : worst_friction_cause_) +
+                            "; a smaller stepping.stroke_increment, or the arctan law (regularization = \"arctan\") "
                             "under another enforcement");
   if (penetrating_steps_ > 0)
     out_.warnings.push_back("penetration unacceptable: " + sci(worst_penetration_) +

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ostream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -272,4 +273,23 @@ TEST(Ssn, ALargeTangentialParameterThatStopsTheRunIsNamed) {
   const std::string summary = read_text(dir + "/summary.json");
   EXPECT_NE(summary.find("formulations.ssn.c_tangential = 10 is above 1"), std::string::npos) << summary;
   EXPECT_NE(summary.find("try the default 0.1"), std::string::npos) << summary;
+}
+
+//~ feature = "ssn"
+//~ scene = "backward_extrusion_cup under ssn to 3.4 mm: at 3.3 mm a node sliding along the punch at 1.96 mm/s is left grazing, its friction force 4.7 times its bound and along its slip"
+//~ source = "the friction factor law's jump at zero pressure (formulations/ssn/ncp.hpp, grazing)"
+//~ [[check]]
+//~ what = "the run warns that exact friction is not met, naming the node, that it is held grazing with its friction along its slip, and that it lies on the friction factor's jump"
+//~ compares = "expected behaviour"
+//~ tolerance = "exact"
+//~ why = "a warning says why and what to change: a row with no solution on any branch is not a row at the kink between stick and slip"
+TEST(Ssn, AGrazingRowLeftOffTheLawIsNamed) {
+  const std::string dir =
+      run_case("backward_extrusion_cup", "--formulation ssn --set stepping.end_stroke=3.4", 0, "_ssn_grazing");
+  const std::string summary = read_text(dir + "/summary.json");
+  EXPECT_NE(summary.find("exact friction met only to"), std::string::npos) << summary;
+  EXPECT_TRUE(std::regex_search(summary, std::regex("node [0-9]+ held grazing \\(no normal force, slip rate")))
+      << summary;
+  EXPECT_NE(summary.find("along its slip: on the friction factor's jump"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("a row at the kink between stick and slip"), std::string::npos) << summary;
 }
