@@ -207,7 +207,13 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
                 "and put back on the free surface), strain integral change %.3g, largest strain change %.3g",
                 why.c_str(), (long long)m.num_elements(), (long long)m.num_nodes(), c.volume, re.overlap_restored,
                 c.strain_integral, c.strain_max);
-  write_events(last_step_, last_.time, {line});
+  std::string text = line;
+  // The mesher's fallback: finer than asked, its outline's edges halved;
+  // the next remeshes' simplification drops those midpoints only within
+  // remesh.volume_tolerance (docs/decisions.md, "Remeshing").
+  for (const std::string& b : re.subdivided)
+    text += "; body '" + b + "' subdivided: gmsh's Blossom left a triangle at every size tried, the outline's edges halved";
+  write_events(last_step_, last_.time, {text});
   remeshes_.push_back(toml::table{{"step", last_step_},
                                   {"stroke_mm", last_.stroke},
                                   {"reason", why},
@@ -216,10 +222,15 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
                                   {"volume_change", c.volume},
                                   {"volume_restored", re.overlap_restored},
                                   {"strain_integral_change", c.strain_integral},
-                                  {"strain_max_change", c.strain_max}});
+                                  {"strain_max_change", c.strain_max},
+                                  {"subdivided", [&] {
+                                     toml::array a;
+                                     for (const std::string& b : re.subdivided) a.push_back(b);
+                                     return a;
+                                   }()}});
   summary_.insert_or_assign("remeshes", remeshes_);
   jump_pending_ = true;
-  if (!quiet_) std::printf("  step %5d  %s\n", last_step_, line);
+  if (!quiet_) std::printf("  step %5d  %s\n", last_step_, text.c_str());
 }
 
 void RunObserver::on_resumed(const StepRecord& r) {

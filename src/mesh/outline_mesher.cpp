@@ -115,6 +115,7 @@ OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, 
   PolygonQuadMesh polygon_mesh = mesh_polygon_into_quads(polygon_in);
 
   OutlineMesh out;
+  for (const auto& between : polygon_mesh.line_nodes) out.subdivided = out.subdivided || !between.empty();
   Mesh& m = out.mesh;
   m.x = std::move(polygon_mesh.x);
   m.quads = std::move(polygon_mesh.quads);

@@ -26,6 +26,9 @@ struct OutlineMesh {
   // Per node of the old mesh: its node in the new mesh, -1 off the outline
   // or dropped from it.
   std::vector<Index> kept;
+  // gmsh's fallback subdivided the mesh, every outline line split in two
+  // (mesh/polygon_quad_mesher.hpp): a finer mesh than asked for.
+  bool subdivided = false;
 };
 
 struct OutlineOptions {

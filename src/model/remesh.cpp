@@ -215,6 +215,7 @@ RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const Reme
       for (Index n : request.pinned)
         if (part.node.at(n) >= 0) o.pinned.push_back(part.node[n]);
       OutlineMesh fresh = mesh_outline(part.mesh, part.mesh.x, 0, o);
+      if (fresh.subdivided) out.subdivided.push_back(scene.mesh.body_names.at(b));
       const double before = body_volume(part.mesh, part.mesh.x, scene.geometry);
       const double overlap = before - body_volume(fresh.mesh, fresh.mesh.x, scene.geometry);
       if (std::abs(overlap) > 1e-13 * std::abs(before) &&

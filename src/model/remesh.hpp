@@ -11,6 +11,7 @@
 // start for Newton only). Velocity groups, tractions and contact pairs name
 // sides, so they hold on the new mesh as they are.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "mesh/field_transfer.hpp"
@@ -26,6 +27,8 @@ struct RemeshedScene {
   // The volume the new outline's points took out of the dies' corners
   // (relative to the bodies' volume), put back on the free surface.
   double overlap_restored = 0;
+  // The bodies whose new mesh gmsh's fallback subdivided (OutlineMesh).
+  std::vector<std::string> subdivided;
 };
 
 // What a remesh changed (events.csv, summary.json): relative changes of the

@@ -31,7 +31,12 @@ std::vector<std::map<std::string, double>> remesh_entries(const std::string& dir
   std::vector<std::map<std::string, double>> out;
   std::size_t p = s.find("\"remeshes\"");
   if (p == std::string::npos) return out;
-  const std::size_t end = s.find(']', p);
+  // The list's closing bracket (an entry may hold a list of names).
+  std::size_t end = s.find('[', p);
+  for (int depth = 0; end < s.size(); ++end) {
+    if (s[end] == '[') ++depth;
+    if (s[end] == ']' && --depth == 0) break;
+  }
   for (p = s.find('{', p); p < end; p = s.find('{', p + 1)) {
     const std::size_t close = s.find('}', p);
     auto& entry = out.emplace_back();
@@ -40,6 +45,10 @@ std::vector<std::map<std::string, double>> remesh_entries(const std::string& dir
       const std::size_t v = s.find_first_not_of(" :", r + 1);
       if (s[v] == '"') {  // a text (the reason): skipped
         q = s.find('"', s.find('"', v + 1) + 1);
+        continue;
+      }
+      if (s[v] == '[') {  // a list of names (subdivided): skipped
+        q = s.find('"', s.find(']', v) + 1);
         continue;
       }
       entry[s.substr(q + 1, r - q - 1)] = std::strtod(s.c_str() + v, nullptr);

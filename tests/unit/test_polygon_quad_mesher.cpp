@@ -51,3 +51,24 @@ TEST(PolygonQuadMesher, AnOutlineBlossomFailsOnAtItsSizeKeepsItsLinesWhole) {
   EXPECT_GT(m.quads.size(), 1.2 * expected);
   EXPECT_LT(m.quads.size(), 2.4 * expected);
 }
+
+// A polygon of an odd number of lines has no mesh of quadrilaterals whose
+// edges are its lines (each quadrilateral has four edges, each inner edge
+// two of them): Blossom leaves a triangle at every size, and the fallback
+// subdivides, a midpoint on every line.
+TEST(PolygonQuadMesher, AnOddPolygonIsSubdividedEveryLineSplit) {
+  PolygonQuadMeshInput in;
+  in.points = {Vec2(0, 0), Vec2(2, 0), Vec2(2, 1), Vec2(1, 2), Vec2(0, 1)};
+  in.size = [](const Vec2&) { return 0.25; };
+  const PolygonQuadMesh m = mesh_polygon_into_quads(in);
+  ASSERT_EQ(m.line_nodes.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(m.line_nodes[i].size(), 1u) << "line " << i;
+  double area = 0;
+  for (const auto& q : m.quads) {
+    double a = 0;
+    for (int k = 0; k < 4; ++k) a += 0.5 * cross(m.x[q[k]], m.x[q[(k + 1) % 4]]);
+    EXPECT_GT(a, 0.0);
+    area += a;
+  }
+  EXPECT_NEAR(area, 3.0, 1e-12);  // the polygon's
+}
