@@ -114,9 +114,9 @@ StepCheck SsnEnforcement::settle(const StepView& v, const std::vector<Vec2>& vel
 namespace {
 
 std::string format(const char* fmt, double a, double b = 0) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
-  return buf;
+  std::string out(static_cast<std::size_t>(std::snprintf(nullptr, 0, fmt, a, b)), '\0');
+  std::snprintf(out.data(), out.size() + 1, fmt, a, b);
+  return out;
 }
 
 }  // namespace
@@ -138,11 +138,11 @@ void SsnEnforcement::measure(const StepView& v) {
   stick_ = slip_ = 0;
   double total = 0;
   for (const SsnRowState& s : state_) total += std::max(s.lambda_n, 0.0);
-  // A row's violation above the step's largest so far names the row.
-  const auto violates = [&](double by, std::size_t i, double& worst, const std::string& why) {
-    if (!(by > std::max(friction_, stick_slip_)) || !(by > kZeroSlip)) return worst = std::max(worst, by), void();
-    worst = by;
-    cause_ = "node " + std::to_string(rows[i].kin.nodes[0]) + " " + why;
+  // A row's violation above the step's largest so far names the row, its
+  // words formatted only then (friction_violation_cause()).
+  const auto violates = [&](double by, std::size_t i, double& worst, const char* why, double a, double b = 0) {
+    if (by > std::max(friction_, stick_slip_)) cause_ = "node " + std::to_string(rows[i].kin.nodes[0]) + " " + format(why, a, b);
+    worst = std::max(worst, by);
   };
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const SsnRowState& s = state_[i];
@@ -158,32 +158,33 @@ void SsnEnforcement::measure(const StepView& v) {
       // does not drive the slip (ncp.hpp). A row left there after its
       // rounds (ssn_step_solver.cpp) has no solution on any branch.
       ++slip_;
-      const std::string why =
-          format("held grazing (no normal force, slip rate %.3g mm/s) with a friction force %.3g times its bound",
-                 s.slip_rate, ratio) +
-          (s.lambda_t * s.slip_rate > 0 ? " along its slip" : "") +
-          ": on the friction factor's jump, where pressing at its bound lifts it off and free it penetrates";
-      violates(std::max(0.0, ratio - 1), i, friction_, why);
-      if (s.lambda_t * s.slip_rate > 0) violates(ratio, i, friction_, why);
+      const bool along = s.lambda_t * s.slip_rate > 0;
+      violates(along ? ratio : std::max(0.0, ratio - 1), i, friction_,
+               along ? "held grazing (no normal force, slip rate %.3g mm/s) with a friction force %.3g times its "
+                       "bound along its slip: on the friction factor's jump, where pressing at its bound lifts it "
+                       "off and free it penetrates"
+                     : "held grazing (no normal force, slip rate %.3g mm/s) with a friction force %.3g times its "
+                       "bound: on the friction factor's jump, where pressing at its bound lifts it off and free it "
+                       "penetrates",
+               s.slip_rate, ratio);
       continue;
     }
     if (s.stick) {
       ++stick_;
-      violates(ratio - 1, i, friction_, format("sticking with a friction force %.3g times its bound", ratio));
-      violates(std::abs(s.slip_rate) / speed_scale(), i, stick_slip_,
-               format("sticking while it slips at %.3g of the speed scale", std::abs(s.slip_rate) / speed_scale()));
+      const double slip = std::abs(s.slip_rate) / speed_scale();
+      violates(ratio - 1, i, friction_, "sticking with a friction force %.3g times its bound", ratio);
+      violates(slip, i, stick_slip_, "sticking while it slips at %.3g of the speed scale", slip);
     } else {
       ++slip_;
-      violates(ratio - 1, i, friction_, format("slipping with a friction force %.3g times its bound", ratio));
+      violates(ratio - 1, i, friction_, "slipping with a friction force %.3g times its bound", ratio);
       // A slipping row whose slip rate is at round-off (the neutral point
       // reached: the solution at the kink between the sets) meets the law
       // as a sticking row, its force at the bound in either direction.
       if (std::abs(s.slip_rate) <= kZeroSlip * speed_scale()) continue;
       const double sign = s.slip_rate > 0 ? 1.0 : -1.0;
       const double off = std::abs(s.lambda_t + s.bound * sign) / g;
-      violates(off, i, friction_,
-               format("slipping at %.3g mm/s with a friction force %.3g of its bound off the bound opposing it",
-                      s.slip_rate, off));
+      violates(off, i, friction_, "slipping at %.3g mm/s with a friction force %.3g of its bound off the bound opposing it",
+               s.slip_rate, off);
     }
   }
 }

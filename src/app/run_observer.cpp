@@ -214,6 +214,8 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
   for (const std::string& b : re.subdivided)
     text += "; body '" + b + "' subdivided: gmsh's Blossom left a triangle at every size tried, the outline's edges halved";
   write_events(last_step_, last_.time, {text});
+  toml::array subdivided;
+  for (const std::string& b : re.subdivided) subdivided.push_back(b);
   remeshes_.push_back(toml::table{{"step", last_step_},
                                   {"stroke_mm", last_.stroke},
                                   {"reason", why},
@@ -223,11 +225,7 @@ void RunObserver::remeshed(const RemeshedScene& re, const std::string& why, cons
                                   {"volume_restored", re.overlap_restored},
                                   {"strain_integral_change", c.strain_integral},
                                   {"strain_max_change", c.strain_max},
-                                  {"subdivided", [&] {
-                                     toml::array a;
-                                     for (const std::string& b : re.subdivided) a.push_back(b);
-                                     return a;
-                                   }()}});
+                                  {"subdivided", subdivided}});
   summary_.insert_or_assign("remeshes", remeshes_);
   jump_pending_ = true;
   if (!quiet_) std::printf("  step %5d  %s\n", last_step_, text.c_str());

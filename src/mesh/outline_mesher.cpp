@@ -115,7 +115,8 @@ OutlineMesh mesh_outline(const Mesh& old, const std::vector<Vec2>& x, int body, 
   PolygonQuadMesh polygon_mesh = mesh_polygon_into_quads(polygon_in);
 
   OutlineMesh out;
-  for (const auto& between : polygon_mesh.line_nodes) out.subdivided = out.subdivided || !between.empty();
+  out.subdivided = std::any_of(polygon_mesh.line_nodes.begin(), polygon_mesh.line_nodes.end(),
+                               [](const std::vector<Index>& between) { return !between.empty(); });
   Mesh& m = out.mesh;
   m.x = std::move(polygon_mesh.x);
   m.quads = std::move(polygon_mesh.quads);

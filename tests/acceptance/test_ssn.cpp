@@ -291,5 +291,7 @@ TEST(Ssn, AGrazingRowLeftOffTheLawIsNamed) {
   EXPECT_TRUE(std::regex_search(summary, std::regex("node [0-9]+ held grazing \\(no normal force, slip rate")))
       << summary;
   EXPECT_NE(summary.find("along its slip: on the friction factor's jump"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("lifts it off and free it penetrates; a smaller stepping.stroke_increment"), std::string::npos)
+      << summary;  // the row's words whole
   EXPECT_EQ(summary.find("a row at the kink between stick and slip"), std::string::npos) << summary;
 }

@@ -96,12 +96,8 @@ void mesh_with_gmsh(const PolygonQuadMeshInput& in, PolygonQuadMesh& out) {
       if ((done = generate(algorithm, near))) break;
   }
   if (!done) {
-    gmsh::model::mesh::clear();
-    gmsh::option::setNumber("Mesh.Algorithm", 6);
     gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
-    scale = 2;
-    for (int i = 0; i < np; ++i) gmsh::model::mesh::setSize({{0, i + 1}}, h(points[i]));
-    gmsh::model::mesh::generate(2);
+    generate(6, 2.0);
   }
   gmsh::model::mesh::removeSizeCallback();
 
