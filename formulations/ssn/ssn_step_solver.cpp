@@ -5,29 +5,15 @@
 #include <map>
 #include <sstream>
 
-#include "core/timing.hpp"
 #include "model/step_problem.hpp"
 
 namespace rpfem {
-
-// The hash of a sparse matrix's pattern (FNV-1a over its index arrays).
-std::uint64_t SsnStepSolver::pattern_hash(const SpMat& A) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&h](std::uint64_t x) { h = (h ^ x) * 1099511628211ull; };
-  mix(static_cast<std::uint64_t>(A.rows()));
-  for (Eigen::Index c = 0; c <= A.outerSize(); ++c) mix(static_cast<std::uint64_t>(A.outerIndexPtr()[c]));
-  for (Eigen::Index k = 0; k < A.nonZeros(); ++k) mix(static_cast<std::uint64_t>(A.innerIndexPtr()[k]));
-  return h;
-}
 
 namespace {
 
 // Gap and slip rates whose weights' Gram determinant is below this
 // fraction of |a_N|^2 |a_T|^2 move along one direction.
 constexpr double kParallel = 1e-12;
-// The multiplier block's diagonal where the functions have none (N s/mm
-// per N: against c ~ sigma w / v of 1e3 to 1e6).
-constexpr double kRegularization = 1e-8;
 // A converged row in contact is within kRowGap of the element size of its
 // master at the step's end and a sticking row slips at most kRowSlip of
 // the speed scale (the conditions the enforcement checks at 1e-9 and 1e-8).
@@ -169,253 +155,6 @@ void SsnStepSolver::rows(const StepView& v, Iterate& it, const Iterate* branch, 
   it.norm = it.F.norm();
 }
 
-SpMat SsnStepSolver::jacobian(const SpMat& K, const Iterate& it) const {
-  const Index n = K.rows();
-  const std::size_t m = red_.size();
-  std::vector<Eigen::Triplet<double, int>> trip;
-  trip.reserve(K.nonZeros() + 8 * m * 8);
-  for (Eigen::Index c = 0; c < K.outerSize(); ++c)
-    for (SpMat::InnerIterator e(K, c); e; ++e) trip.emplace_back(e.row(), e.col(), e.value());
-  // Every row's entries are in the pattern whatever its set (zeros kept),
-  // so the pattern, and the LU's analysis, hold over the solve.
-  for (std::size_t j = 0; j < m; ++j) {
-    const Reduced& rr = red_[j];
-    const RowNcp& q = it.ncp[j];
-    const int N = static_cast<int>(n + 2 * j), T = N + 1;
-    for (const auto& [d, w] : rr.an) {
-      trip.emplace_back(d, N, -w);
-      trip.emplace_back(N, d, q.dcn_dr * w);
-      trip.emplace_back(T, d, q.dct_dr * w);
-    }
-    for (const auto& [d, w] : rr.at) {
-      trip.emplace_back(d, T, -w);
-      trip.emplace_back(T, d, q.dct_ds * w);
-    }
-    // A row in contact (sticking) has no diagonal in its multiplier's
-    // column; kRegularization there keeps the system solvable where rows
-    // are linearly dependent (a body row between two nodes each held on a
-    // die): the Newton matrix only, F is unchanged, so the solution is.
-    trip.emplace_back(N, N, q.dcn_dln != 0 ? q.dcn_dln : -kRegularization);
-    trip.emplace_back(T, N, q.dct_dln);
-    trip.emplace_back(T, T, q.dct_dlt != 0 ? q.dct_dlt : -kRegularization);
-  }
-  const Index size = n + 2 * static_cast<Index>(m);
-  SpMat J(size, size);
-  J.setFromTriplets(trip.begin(), trip.end());
-  return J;
-}
-
-bool SsnStepSolver::condensable(const Iterate& it) const {
-  // Rows of one node against a die with both its directions free (T = I),
-  // on a branch whose multipliers are the node's reactions or known
-  // forces: open, sticking, or slipping under a fixed bound.
-  if (!s_.condense) return false;
-  std::map<Index, int> on;
-  for (std::size_t j = 0; j < red_.size(); ++j) {
-    const Reduced& rr = red_[j];
-    const RowNcp& q = it.ncp[j];
-    // Two free directions, or one (a node on the axis or a symmetry plane,
-    // held frictionless: one_direction).
-    const bool two = rr.an.size() == 2 && !rr.one_direction, one = rr.an.size() == 1 && rr.one_direction;
-    if (rr.die_node < 0 || !(two || one) || q.grazing) return false;
-    if (q.active && !q.stick && (q.dct_dln != 0 || q.dct_dr != 0)) return false;  // Coulomb's bound follows N
-    if (q.active && ++on[rr.die_node] > 1) return false;
-  }
-  return true;
-}
-
-bool SsnStepSolver::rotate_in_place(SpMat& A, const std::vector<int>& row_of) const {
-  // A = Q^T A Q, Q the identity but at the rotated nodes, whose dofs ix, iy
-  // it takes to their frame's (n, t): column ix of A Q is n_x A(:, ix) +
-  // n_y A(:, iy), column iy t_x A(:, ix) + t_y A(:, iy), and the rows
-  // likewise. In place where each such node's two columns, and so (the
-  // tangent's pattern being symmetric) its two rows in every column, share
-  // one pattern; otherwise false and A is not to be used.
-  if (!A.isCompressed()) return false;
-  const int* outer = A.outerIndexPtr();
-  const int* inner = A.innerIndexPtr();
-  double* val = A.valuePtr();
-  std::vector<std::size_t> nodes;  // rows of the solve rotated
-  for (std::size_t j = 0; j < red_.size(); ++j) {
-    const Reduced& rr = red_[j];
-    if (rr.an.size() != 2 || row_of[rr.an[0].first] != static_cast<int>(j)) continue;
-    const Index ix = rr.an[0].first, iy = rr.an[1].first;
-    if (outer[ix + 1] - outer[ix] != outer[iy + 1] - outer[iy] ||
-        !std::equal(inner + outer[ix], inner + outer[ix + 1], inner + outer[iy]))
-      return false;
-    nodes.push_back(j);
-  }
-  for (const std::size_t j : nodes) {
-    const Reduced& rr = red_[j];
-    const Index ix = rr.an[0].first, iy = rr.an[1].first;
-    const double nx = rr.an[0].second, ny = rr.an[1].second, tx = rr.at[0].second, ty = rr.at[1].second;
-    double *a = val + outer[ix], *b = val + outer[iy];
-    for (int k = 0; k < outer[ix + 1] - outer[ix]; ++k) {
-      const double x = a[k], y = b[k];
-      a[k] = nx * x + ny * y, b[k] = tx * x + ty * y;
-    }
-  }
-  for (Eigen::Index c = 0; c < A.outerSize(); ++c) {
-    const int *first = inner + outer[c], *last = inner + outer[c + 1];
-    for (const int* p = first; p != last; ++p) {
-      const int j = row_of[*p];
-      if (j < 0 || *p != red_[j].an[0].first) continue;
-      const Reduced& rr = red_[j];
-      const int* q = std::lower_bound(first, last, static_cast<int>(rr.an[1].first));
-      if (q == last || *q != rr.an[1].first) return false;
-      double &x = val[p - inner], &y = val[q - inner];
-      const double x0 = x, y0 = y;
-      x = rr.an[0].second * x0 + rr.an[1].second * y0;
-      y = rr.at[0].second * x0 + rr.at[1].second * y0;
-    }
-  }
-  return true;
-}
-
-bool SsnStepSolver::condensed_step(const SpMat& K, const Iterate& it, Vec& dx) {
-  // The rows' multipliers condensed (Popp et al. 2010; Wohlmuth 2011): at
-  // a node pressing on a die, the step's normal velocity is prescribed
-  // (C_N = c_N r: n . du = -r), and sticking its tangential one too
-  // (t . du = -gamma_T); the forces are the reactions there, or a
-  // slipping row's bound g s, a known force. K in the nodes' (n, t)
-  // frames with the prescribed directions eliminated stays symmetric
-  // positive definite: CHOLMOD.
-  const Index n = K.rows();
-  const std::size_t m = red_.size();
-  // Per dof: its node's frame column (n or t) where rotated.
-  std::vector<int> row_of(n, -1);
-  for (std::size_t j = 0; j < m; ++j)
-    if (it.ncp[j].active && red_[j].an.size() == 2)
-      row_of[red_[j].an[0].first] = row_of[red_[j].an[1].first] = static_cast<int>(j);
-  // The dofs' local coordinates xi = Q^T du: at a rotated node dof ix holds
-  // xi_n and iy xi_t; Q's entries (global dof d, local dof p).
-  auto q_entries = [&](Index d, std::pair<Index, double>* out) {
-    const int j = row_of[d];
-    if (j < 0) return out[0] = {d, 1.0}, 1;
-    const Reduced& rr = red_[j];
-    const int c = d == rr.an[0].first ? 0 : 1;  // the global component
-    out[0] = {rr.an[0].first, rr.an[c].second};  // n's component
-    out[1] = {rr.an[1].first, rr.at[c].second};  // t's component
-    return 2;
-  };
-  SpMat A = K;
-  if (!rotate_in_place(A, row_of)) {
-    std::vector<Eigen::Triplet<double, int>> trip;
-    trip.reserve(2 * K.nonZeros());
-    std::pair<Index, double> qi[2], qj[2];
-    for (Eigen::Index c = 0; c < K.outerSize(); ++c) {
-      const int nj = q_entries(c, qj);
-      for (SpMat::InnerIterator e(K, c); e; ++e) {
-        const int ni = q_entries(e.row(), qi);
-        for (int a = 0; a < ni; ++a)
-          for (int b = 0; b < nj; ++b) trip.emplace_back(qi[a].first, qj[b].first, qi[a].second * e.value() * qj[b].second);
-      }
-    }
-    A = SpMat(n, n);
-    A.setFromTriplets(trip.begin(), trip.end());
-  }
-  // The right-hand side -R plus the slipping rows' known forces, in the
-  // local coordinates.
-  Vec b = -it.R;
-  std::vector<double> lt_new(m, 0.0);
-  for (std::size_t j = 0; j < m; ++j) {
-    const RowNcp& q = it.ncp[j];
-    if (!q.active || q.stick || red_[j].an.size() == 1) continue;
-    lt_new[j] = q.g * q.sign;
-    for (const auto& [d, w] : red_[j].at) b[d] += lt_new[j] * w;
-  }
-  // y = Q^T x (to_local) or Q x at the rotated nodes: Q's columns there
-  // are n and t.
-  const auto rotate = [&](const Vec& x, bool to_local) {
-    Vec y = x;
-    for (std::size_t j = 0; j < m; ++j) {
-      if (!it.ncp[j].active || red_[j].an.size() == 1) continue;
-      const Reduced& rr = red_[j];
-      const Index ix = rr.an[0].first, iy = rr.an[1].first;
-      const double nx = rr.an[0].second, ny = rr.an[1].second, tx = rr.at[0].second, ty = rr.at[1].second;
-      y[ix] = to_local ? nx * x[ix] + ny * x[iy] : nx * x[ix] + tx * x[iy];
-      y[iy] = to_local ? tx * x[ix] + ty * x[iy] : ny * x[ix] + ty * x[iy];
-    }
-    return y;
-  };
-  Vec bl = rotate(b, true);
-  // Prescribed local dofs and their values.
-  std::vector<char> fixed(n, 0);
-  Vec value = Vec::Zero(n);
-  for (std::size_t j = 0; j < m; ++j) {
-    const RowNcp& q = it.ncp[j];
-    if (!q.active) continue;
-    if (red_[j].an.size() == 1) {  // its one free dof moves the gap: a_N du = -r
-      const auto [d, w] = red_[j].an[0];
-      fixed[d] = 1, value[d] = -it.r[j] / w;
-      continue;
-    }
-    const Index pn = red_[j].an[0].first, pt = red_[j].an[1].first;
-    fixed[pn] = 1, value[pn] = -it.r[j];
-    if (q.stick) fixed[pt] = 1, value[pt] = -it.g[j];
-  }
-  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
-    for (SpMat::InnerIterator e(A, c); e; ++e) {
-      const Index i = e.row();
-      if (fixed[c] && !fixed[i]) bl[i] -= e.value() * value[c];
-      if ((fixed[c] || fixed[i]) && i != c) e.valueRef() = 0;
-    }
-  for (Index p = 0; p < n; ++p)
-    if (fixed[p]) bl[p] = A.coeff(p, p) * value[p];
-  // A's pattern is K's, fixed within a solve: hashed at its first step.
-  if (!condensed_hashed_) {
-    const std::uint64_t h = pattern_hash(A);
-    if (h != condensed_hash_) condensed_hash_ = h, ++condensed_version_;
-    condensed_hashed_ = true;
-  }
-  Vec xi;
-  {
-    ScopedSeconds timing(stats_.factor_seconds);
-    if (!cholesky_.factorize(A, true, condensed_version_)) return false;
-    xi = cholesky_.solve(bl);
-  }
-  // du = Q xi, then the reactions from the nodes' equilibrium.
-  const Vec du = rotate(xi, false);
-  const Vec res = K * du + it.R;  // the elements' force after the step
-  dx.resize(n + 2 * static_cast<Index>(m));
-  dx.head(n) = du;
-  for (std::size_t j = 0; j < m; ++j) {
-    const RowNcp& q = it.ncp[j];
-    double ln = 0, lt = 0;
-    if (q.active && red_[j].an.size() == 1) {
-      ln = res[red_[j].an[0].first] / red_[j].an[0].second;
-    } else if (q.active) {
-      const Reduced& rr = red_[j];
-      const Index dx_ = rr.an[0].first, dy_ = rr.an[1].first;
-      ln = rr.an[0].second * res[dx_] + rr.an[1].second * res[dy_];
-      lt = q.stick ? rr.at[0].second * res[dx_] + rr.at[1].second * res[dy_] : lt_new[j];
-    }
-    dx[n + 2 * j] = ln - it.ln[j];
-    dx[n + 2 * j + 1] = lt - it.lt[j];
-  }
-  ++stats_.condensed;
-  return dx.allFinite();
-}
-
-bool SsnStepSolver::newton_step(const SpMat& K, const Iterate& it, Vec& dx) {
-  if (condensable(it)) return condensed_step(K, it, dx);
-  if (s_.augmented && augmented_step(K, it, dx)) return true;
-  const SpMat J = jacobian(K, it);
-  // Every row's entries are in J's pattern, and K's is fixed within a
-  // solve: hashed at its first step.
-  if (!saddle_hashed_) {
-    const std::uint64_t h = pattern_hash(J);
-    if (h != pattern_hash_) pattern_hash_ = h, ++pattern_version_;
-    saddle_hashed_ = true;
-  }
-  {
-    ScopedSeconds timing(stats_.factor_seconds);
-    if (!lu_.factorize(J, false, pattern_version_)) return false;
-    dx = lu_.solve(-it.F);
-  }
-  return dx.allFinite();
-}
-
 void SsnStepSolver::start(const StepView& v, const StepProblem& problem) {
   reduce_rows(v, problem);
   const std::size_t m = red_.size();
@@ -458,24 +197,14 @@ bool SsnStepSolver::grazing_holds(const Iterate& it, std::size_t j) const {
   return std::abs(it.lt[j]) <= q.g + tol && it.lt[j] * it.g[j] <= tol * std::abs(it.g[j]);
 }
 
-SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& u) {
-  SolveOutcome out;
-  stats_ = {};
-  start(v, problem);
+SsnStepSolver::Iterate SsnStepSolver::first_iterate(const StepView& v, StepProblem& problem, const Vec& u, bool& cold,
+                                                    bool& warm) {
   const std::size_t m = red_.size();
-  stats_.rows = static_cast<int>(m);
-  // Rows left out of the solve carry nothing.
-  std::vector<char> in_solve(rows_->size(), 0);
-  for (const Reduced& r : red_) in_solve[r.row] = 1;
-  for (std::size_t j = 0; j < rows_->size(); ++j)
-    if (!in_solve[j]) (*state_)[j] = {};
   Iterate x;
   x.u = u;
   x.ln.resize(m), x.lt.resize(m);
   for (std::size_t j = 0; j < m; ++j) x.ln[j] = (*state_)[red_[j].row].lambda_n, x.lt[j] = (*state_)[red_[j].row].lambda_t;
-  const NewtonSettings& ns = s_.newton;
-  bool secant = ns.direct_iterations > 0;
-  bool warm = !hold_start_;  // every row's forces from an earlier solve
+  warm = !hold_start_;
   // A cold solve: a run's first (no row has forces from an earlier solve)
   // or the first after a remesh (hold_starting_sets()). Its sets are
   // found from scratch, in rounds (the iteration converging on the sets
@@ -485,7 +214,7 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
   // at m = 0.1 found its first solve's sets in 4 rounds and 58 iterations
   // (27 to converge on the first sets held), and stopped there on one
   // budget of 40; a warm solve keeps the one budget.
-  bool cold = true;
+  cold = true;
   forces(problem, x);
   // A row with no forces of its own yet (a run's first solve, the first
   // after a remesh) that touches at the start takes the force its nodes'
@@ -538,6 +267,205 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     for (std::size_t j = 0; j < m; ++j) held_[j] = x.ncp[j], held_[j]->grazing = false;
     hold_start_ = false;
   }
+  return x;
+}
+
+SsnStepSolver::Search SsnStepSolver::line_search(const StepView& v, StepProblem& problem, const Iterate& x, const Vec& dx,
+                                                 bool keep_full_step, bool probe) {
+  const NewtonSettings& ns = s_.newton;
+  const Index n = x.u.size();
+  const std::size_t m = red_.size();
+  // Backtracking on the Lagrangian of the iterate's sets (the header).
+  std::vector<double> ln_plus = x.ln, lt_plus = x.lt;
+  for (std::size_t j = 0; j < m; ++j) ln_plus[j] += dx[n + 2 * j], lt_plus[j] += dx[n + 2 * j + 1];
+  const double L0 = lagrangian(x, ln_plus, lt_plus);
+  Vec Fu = x.F.head(n);
+  for (std::size_t j = 0; j < m; ++j) {
+    for (const auto& [d, w] : red_[j].an) Fu[d] += (x.ln[j] - ln_plus[j]) * w;
+    for (const auto& [d, w] : red_[j].at) Fu[d] += (x.lt[j] - lt_plus[j]) * w;
+  }
+  const double slope = Fu.dot(dx.head(n));
+  Search out;
+  Iterate& trial = out.trial;
+  double& s = out.s;
+  for (int cut = 0;; ++cut) {
+    trial.u = x.u + s * dx.head(n);
+    trial.ln = x.ln, trial.lt = x.lt;
+    for (std::size_t j = 0; j < m; ++j) trial.ln[j] += s * dx[n + 2 * j], trial.lt[j] += s * dx[n + 2 * j + 1];
+    const bool keep = keep_full_step && cut == 0;
+    if (keep) problem.keep_tangent_terms(true);
+    forces(problem, trial);
+    if (keep) problem.keep_tangent_terms(false);
+    rows(v, trial, &x);
+    const double L = lagrangian(trial, ln_plus, lt_plus);
+    bool ok = std::isfinite(L) && std::isfinite(trial.norm);
+    if (ok && slope < 0) {
+      // Within round-off of L(u) a drop of |F| is taken instead (as the
+      // kernel's Newton does, solver/newton.hpp).
+      ok = L <= L0 + ns.armijo * s * slope ||
+           (L - L0 <= kRoundOffEnergy * std::abs(L0) && trial.norm <= (1 - ns.armijo * s) * x.norm);
+    } else if (ok) {
+      ok = trial.norm <= (1 - ns.armijo * s) * x.norm;
+    }
+    // The sets at the trial; nor may the residual on them grow beyond
+    // kGrowth times: the Lagrangian of one iterate's sets falls along
+    // steps that change many sets at once while |F| grows without bound
+    // (the backward extrusion after a remesh: 1e8 times). Below
+    // kGrowthFloor of the force scale it may: the step off a converged
+    // iterate whose released rows took a new set starts at |F| ~ 1e-9
+    // and passes 1e-5 on its way (cut to 2^-12 at 10 times, 2^-5 at
+    // the next, and the solve crawled).
+    if (ok || cut == ns.max_halvings) rows(v, trial, nullptr, true);
+    if (ok) ok = trial.norm <= std::max(kGrowth * x.norm, kGrowthFloor * x.scale);
+    if (ok) break;
+    if (probe) {
+      out.redo = true;
+      break;
+    }
+    if (cut == ns.max_halvings) break;  // the shortest step is taken: the secant iteration follows
+    s *= 0.5, ++stats_.halvings;
+  }
+  return out;
+}
+
+std::string SsnStepSolver::landing_lift_off(const StepView& v, const Iterate& x, const Iterate& trial) const {
+  // A row landing at the step's end that, pressing and slipping at the
+  // friction factor's bound, lifts off: its bound m k w does not vanish
+  // with the pressure, so pressing its friction lifts it off, free it
+  // penetrates, and it may have no solution there (ncp.hpp, grazing).
+  // Where the inner face of the ring at m = 1 folds onto the die (72 x
+  // 48), such a row pressing at its bound ended with -264 N, and its
+  // turns moved 10 to 60 rows beside the sticking zone between stick and
+  // slip at each iteration: the solve ran out of its 40 iterations. Past
+  // the landing the row presses and has a solution: the stepper tries
+  // the step there (StepView::at_landing). Open at the start: not active
+  // in the state the solve started from (written only when it converges).
+  for (std::size_t j = 0; j < red_.size() && v.at_landing; ++j) {
+    const RowNcp &was = x.ncp[j], &is = trial.ncp[j];
+    if ((*state_)[red_[j].row].active || !was.active || was.stick || was.grazing || is.active || red_[j].one_direction ||
+        friction_[red_[j].row].kind != RowFriction::Kind::Tresca)
+      continue;
+    return "ssn: the row of node " + std::to_string((*rows_)[red_[j].row].kin.nodes[0]) +
+           " landing at the step's end lifts off when it presses at its friction bound";
+  }
+  return "";
+}
+
+void SsnStepSolver::hold_cycling(const Iterate& x, const Iterate& trial, int changes) {
+  const std::size_t m = red_.size();
+  // Cycling is a few rows changing by turns; many rows changing at once
+  // is the sets being found (a cold start).
+  const bool few = static_cast<std::size_t>(changes) <= std::max(kFewChanges, m / 10);
+  for (std::size_t j = 0; j < m && few; ++j) {
+    if (trial.sets[j] == x.sets[j]) continue;
+    if (trial.ncp[j].active != x.ncp[j].active) ++normal_flips_[j];
+    if (++flips_[j] >= kHoldAfter && !held_[j]) {
+      // A row that lands and lifts off by turns under the friction
+      // factor's jump is held grazing (ncp.hpp), any other on its branch.
+      held_[j] = trial.ncp[j];
+      held_[j]->grazing = normal_flips_[j] >= kHoldAfter - 1 && friction_[red_[j].row].kind == RowFriction::Kind::Tresca;
+      if (held_[j]->grazing) held_[j]->active = true;
+      ++stats_.holds;
+    }
+  }
+}
+
+int SsnStepSolver::release(const StepView& v, const Iterate& x, Iterate& free, bool round_off, bool& stuck) {
+  const NewtonSettings& ns = s_.newton;
+  const std::size_t m = red_.size();
+  rows(v, free, nullptr, false);
+  const bool free_meets = free.norm <= (round_off ? kRoundOffFactor : 1.0) * ns.tol_force * free.scale &&
+                          rows_meet(v, free);
+  int released = 0;
+  stuck = false;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!held_[j]) continue;
+    const bool holds = held_[j]->grazing ? grazing_holds(x, j) : free_meets || free.sets[j] == set_of(*held_[j]);
+    if (holds) continue;
+    // A grazing row that came back to the jump after kMaxRehold outer
+    // steps has no solution on any branch (pressing at the bound it
+    // lifts off, free it penetrates, grazing it asks for more friction
+    // than the bound or friction along its slip: a rim row of the
+    // friction factor law, whose bound m k w does not vanish with the
+    // pressure). It stays grazing, the least departure from the law at
+    // one row; the enforcement reports its friction against the bound
+    // (kkt_friction) and the run warns.
+    if (held_[j]->grazing && reholds_[j] >= kMaxRehold) continue;
+    ++released;
+    if (held_[j]->grazing && std::abs(x.lt[j]) > x.ncp[j].g) {
+      // Grazing asks for more friction than the bound: the row presses
+      // and slips at the bound, the force opposing its slip (the law),
+      // or, at no slip, along the force equilibrium asked for.
+      held_[j]->grazing = held_[j]->stick = false;
+      const double slip = x.g[j];
+      const bool slips = std::abs(slip) > kRowSlip * s_.speed_scale;
+      held_[j]->sign = slips ? (slip > 0 ? -1.0 : 1.0) : (x.lt[j] > 0 ? 1.0 : -1.0);
+      continue;
+    }
+    // Held again on its own branch at this solution, while that
+    // converges: a row at the stick-slip boundary goes to the side the
+    // held solution asks for (an outer step of the primal-dual active
+    // set method for the few rows that cycle); released for good
+    // after kMaxRehold of them.
+    if (++reholds_[j] <= kMaxRehold) held_[j] = free.ncp[j];
+    else held_[j].reset(), flips_[j] = normal_flips_[j] = 0;
+  }
+  // A slipping row whose slip runs along its own friction force meets
+  // neither set's conditions, yet its own set reads as slipping: its
+  // force lies at the bound to within the force tolerance (tol_force
+  // F_scale), and that is more than c_T gamma_T for a slip rate below
+  // about 1e-4 of the die speed. Held sticking, the iteration goes on;
+  // after kMaxRehold such holds it is left, kkt_friction reports it and
+  // the run warns. The remeshed ring's 72 x 48 mesh under Coulomb (mu =
+  // 0.2) ended two steps with such rows (slip rates 3e-6 to 4e-3 of the
+  // die speed, each held on its slipping branch after cycling), and at
+  // 48 x 32 one (kkt_friction 2 at 5.29 mm); with the hold, none.
+  for (std::size_t j = 0; j < m; ++j) {
+    const RowNcp& q = x.ncp[j];
+    if (!q.active || q.stick || q.grazing || x.g[j] * q.sign <= kAlongForce * s_.speed_scale) continue;
+    if (reholds_[j] >= kMaxRehold) continue;
+    ++reholds_[j], ++released, stuck = true;
+    held_[j] = q;
+    held_[j]->stick = true, held_[j]->sign = 0;
+  }
+  return released;
+}
+
+void SsnStepSolver::store(const Iterate& x, Vec& u) {
+  const std::size_t m = red_.size();
+  u = x.u;
+  for (std::size_t j = 0; j < m; ++j) {
+    SsnRowState& st = (*state_)[red_[j].row];
+    const RowNcp& q = x.ncp[j];
+    st.lambda_n = x.ln[j], st.lambda_t = x.lt[j];
+    // The forces on their branch's values, where those are explicit (the
+    // iteration leaves them within tol_force of the force scale, which on
+    // a lightly loaded row is a visible share of its bound): no force off
+    // contact, a slipping row's force at its bound.
+    if (!q.active) st.lambda_n = st.lambda_t = 0;
+    else if (!q.stick && !q.grazing) st.lambda_t = q.g * q.sign;
+    st.active = q.active, st.stick = q.stick, st.bound = q.g, st.grazing = q.grazing;
+    stats_.grazing += q.grazing;
+    st.end_gap_rate = x.r[j], st.slip_rate = x.g[j];
+  }
+}
+
+SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& u) {
+  SolveOutcome out;
+  stats_ = {};
+  start(v, problem);
+  const std::size_t m = red_.size();
+  stats_.rows = static_cast<int>(m);
+  // Rows left out of the solve carry nothing.
+  std::vector<char> in_solve(rows_->size(), 0);
+  for (const Reduced& r : red_) in_solve[r.row] = 1;
+  for (std::size_t j = 0; j < rows_->size(); ++j)
+    if (!in_solve[j]) (*state_)[j] = {};
+  const NewtonSettings& ns = s_.newton;
+  bool secant = ns.direct_iterations > 0;
+  bool cold = true;  // a run's first solve or the first after a remesh (first_iterate)
+  bool warm = true;  // every row's forces from an earlier solve
+  Iterate x = first_iterate(v, problem, u, cold, warm);
   double last_full = -1;  // |du| of the last full consistent step (-1: none)
   // A warm start's first iteration probes the consistent tangent (the
   // header); redone with the secant one, and counted, where that fails.
@@ -559,16 +487,6 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
       break;
     }
     const Index n = x.u.size();
-    // Backtracking on the Lagrangian of the iterate's sets (the header).
-    std::vector<double> ln_plus = x.ln, lt_plus = x.lt;
-    for (std::size_t j = 0; j < m; ++j) ln_plus[j] += dx[n + 2 * j], lt_plus[j] += dx[n + 2 * j + 1];
-    const double L0 = lagrangian(x, ln_plus, lt_plus);
-    Vec Fu = x.F.head(n);
-    for (std::size_t j = 0; j < m; ++j) {
-      for (const auto& [d, w] : red_[j].an) Fu[d] += (x.ln[j] - ln_plus[j]) * w;
-      for (const auto& [d, w] : red_[j].at) Fu[d] += (x.lt[j] - lt_plus[j]) * w;
-    }
-    const double slope = Fu.dot(dx.head(n));
     // The full-step trial is usually the next iterate, whose consistent
     // tangent then comes from the trial's own element pass (as the
     // kernel's Newton does, solver/newton.hpp), unless this is the last
@@ -579,46 +497,10 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
                            dun / last_full * dun <= ns.tol_velocity * x.u.norm();
     const bool keep_full_step = iter + redone - round_start < ns.max_iterations && !predicted;
     const bool probe = probing && iter == 1 && !secant;
-    bool redo = false;
-    Iterate trial;
-    double s = 1;
-    for (int cut = 0;; ++cut) {
-      trial.u = x.u + s * dx.head(n);
-      trial.ln = x.ln, trial.lt = x.lt;
-      for (std::size_t j = 0; j < m; ++j) trial.ln[j] += s * dx[n + 2 * j], trial.lt[j] += s * dx[n + 2 * j + 1];
-      const bool keep = keep_full_step && cut == 0;
-      if (keep) problem.keep_tangent_terms(true);
-      forces(problem, trial);
-      if (keep) problem.keep_tangent_terms(false);
-      rows(v, trial, &x);
-      const double L = lagrangian(trial, ln_plus, lt_plus);
-      bool ok = std::isfinite(L) && std::isfinite(trial.norm);
-      if (ok && slope < 0) {
-        // Within round-off of L(u) a drop of |F| is taken instead (as the
-        // kernel's Newton does, solver/newton.hpp).
-        ok = L <= L0 + ns.armijo * s * slope ||
-             (L - L0 <= kRoundOffEnergy * std::abs(L0) && trial.norm <= (1 - ns.armijo * s) * x.norm);
-      } else if (ok) {
-        ok = trial.norm <= (1 - ns.armijo * s) * x.norm;
-      }
-      // The sets at the trial; nor may the residual on them grow beyond
-      // kGrowth times: the Lagrangian of one iterate's sets falls along
-      // steps that change many sets at once while |F| grows without bound
-      // (the backward extrusion after a remesh: 1e8 times). Below
-      // kGrowthFloor of the force scale it may: the step off a converged
-      // iterate whose released rows took a new set starts at |F| ~ 1e-9
-      // and passes 1e-5 on its way (cut to 2^-12 at 10 times, 2^-5 at
-      // the next, and the solve crawled).
-      if (ok || cut == ns.max_halvings) rows(v, trial, nullptr, true);
-      if (ok) ok = trial.norm <= std::max(kGrowth * x.norm, kGrowthFloor * x.scale);
-      if (ok) break;
-      if (probe) {
-        redo = true;
-        break;
-      }
-      if (cut == ns.max_halvings) break;  // the shortest step is taken: the secant iteration follows
-      s *= 0.5, ++stats_.halvings;
-    }
+    Search search = line_search(v, problem, x, dx, keep_full_step, probe);
+    Iterate& trial = search.trial;
+    const double s = search.s;
+    bool redo = search.redo;
     for (std::size_t j = 0; j < m && probe && !redo; ++j) redo = trial.ncp[j].active != x.ncp[j].active;
     if (redo) {
       secant = true, ++redone, --iter;
@@ -631,42 +513,9 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     const double du = s * dx.head(n).norm();
     int changes = 0;
     for (std::size_t j = 0; j < m; ++j) changes += trial.sets[j] != x.sets[j];
-    // A row landing at the step's end that, pressing and slipping at the
-    // friction factor's bound, lifts off: its bound m k w does not vanish
-    // with the pressure, so pressing its friction lifts it off, free it
-    // penetrates, and it may have no solution there (ncp.hpp, grazing).
-    // Where the inner face of the ring at m = 1 folds onto the die (72 x
-    // 48), such a row pressing at its bound ended with -264 N, and its
-    // turns moved 10 to 60 rows beside the sticking zone between stick and
-    // slip at each iteration: the solve ran out of its 40 iterations. Past
-    // the landing the row presses and has a solution: the stepper tries
-    // the step there (StepView::at_landing). Open at the start: not active
-    // in the state the solve started from (written only when it converges).
-    for (std::size_t j = 0; j < m && v.at_landing; ++j) {
-      const RowNcp &was = x.ncp[j], &is = trial.ncp[j];
-      if ((*state_)[red_[j].row].active || !was.active || was.stick || was.grazing || is.active || red_[j].one_direction ||
-          friction_[red_[j].row].kind != RowFriction::Kind::Tresca)
-        continue;
-      out.reason = "ssn: the row of node " + std::to_string((*rows_)[red_[j].row].kin.nodes[0]) +
-                   " landing at the step's end lifts off when it presses at its friction bound";
-      break;
-    }
+    out.reason = landing_lift_off(v, x, trial);
     if (!out.reason.empty()) break;
-    // Cycling is a few rows changing by turns; many rows changing at once
-    // is the sets being found (a cold start).
-    const bool few = static_cast<std::size_t>(changes) <= std::max(kFewChanges, m / 10);
-    for (std::size_t j = 0; j < m && few; ++j) {
-      if (trial.sets[j] == x.sets[j]) continue;
-      if (trial.ncp[j].active != x.ncp[j].active) ++normal_flips_[j];
-      if (++flips_[j] >= kHoldAfter && !held_[j]) {
-        // A row that lands and lifts off by turns under the friction
-        // factor's jump is held grazing (ncp.hpp), any other on its branch.
-        held_[j] = trial.ncp[j];
-        held_[j]->grazing = normal_flips_[j] >= kHoldAfter - 1 && friction_[red_[j].row].kind == RowFriction::Kind::Tresca;
-        if (held_[j]->grazing) held_[j]->active = true;
-        ++stats_.holds;
-      }
-    }
+    hold_cycling(x, trial, changes);
     stats_.set_changes += changes;
     // The velocity error: the last correction, times the contraction of
     // two successive full consistent steps where it is below 1/2.
@@ -690,63 +539,10 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     // them at round-off).
     if (((x.norm <= ns.tol_force * x.scale && error <= ns.tol_velocity * unorm) || round_off) && rows_meet(v, x)) {
       // Converged on the sets held: done if they are the solution's, else
-      // the rows whose own branch differs are released.
+      // the rows whose own branch differs are released (release()).
       Iterate free = x;
-      rows(v, free, nullptr, false);
-      const bool free_meets = free.norm <= (round_off ? kRoundOffFactor : 1.0) * ns.tol_force * free.scale &&
-                              rows_meet(v, free);
-      int released = 0;
-      for (std::size_t j = 0; j < m; ++j) {
-        if (!held_[j]) continue;
-        const bool holds = held_[j]->grazing ? grazing_holds(x, j) : free_meets || free.sets[j] == set_of(*held_[j]);
-        if (holds) continue;
-        // A grazing row that came back to the jump after kMaxRehold outer
-        // steps has no solution on any branch (pressing at the bound it
-        // lifts off, free it penetrates, grazing it asks for more friction
-        // than the bound or friction along its slip: a rim row of the
-        // friction factor law, whose bound m k w does not vanish with the
-        // pressure). It stays grazing, the least departure from the law at
-        // one row; the enforcement reports its friction against the bound
-        // (kkt_friction) and the run warns.
-        if (held_[j]->grazing && reholds_[j] >= kMaxRehold) continue;
-        ++released;
-        if (held_[j]->grazing && std::abs(x.lt[j]) > x.ncp[j].g) {
-          // Grazing asks for more friction than the bound: the row presses
-          // and slips at the bound, the force opposing its slip (the law),
-          // or, at no slip, along the force equilibrium asked for.
-          held_[j]->grazing = held_[j]->stick = false;
-          const double slip = x.g[j];
-          const bool slips = std::abs(slip) > kRowSlip * s_.speed_scale;
-          held_[j]->sign = slips ? (slip > 0 ? -1.0 : 1.0) : (x.lt[j] > 0 ? 1.0 : -1.0);
-          continue;
-        }
-        // Held again on its own branch at this solution, while that
-        // converges: a row at the stick-slip boundary goes to the side the
-        // held solution asks for (an outer step of the primal-dual active
-        // set method for the few rows that cycle); released for good
-        // after kMaxRehold of them.
-        if (++reholds_[j] <= kMaxRehold) held_[j] = free.ncp[j];
-        else held_[j].reset(), flips_[j] = normal_flips_[j] = 0;
-      }
-      // A slipping row whose slip runs along its own friction force meets
-      // neither set's conditions, yet its own set reads as slipping: its
-      // force lies at the bound to within the force tolerance (tol_force
-      // F_scale), and that is more than c_T gamma_T for a slip rate below
-      // about 1e-4 of the die speed. Held sticking, the iteration goes on;
-      // after kMaxRehold such holds it is left, kkt_friction reports it and
-      // the run warns. The remeshed ring's 72 x 48 mesh under Coulomb (mu =
-      // 0.2) ended two steps with such rows (slip rates 3e-6 to 4e-3 of the
-      // die speed, each held on its slipping branch after cycling), and at
-      // 48 x 32 one (kkt_friction 2 at 5.29 mm); with the hold, none.
       bool stuck = false;
-      for (std::size_t j = 0; j < m; ++j) {
-        const RowNcp& q = x.ncp[j];
-        if (!q.active || q.stick || q.grazing || x.g[j] * q.sign <= kAlongForce * s_.speed_scale) continue;
-        if (reholds_[j] >= kMaxRehold) continue;
-        ++reholds_[j], ++released, stuck = true;
-        held_[j] = q;
-        held_[j]->stick = true, held_[j]->sign = 0;
-      }
+      const int released = release(v, x, free, round_off, stuck);
       if (released == 0) {
         out.converged = true;
         break;
@@ -773,21 +569,7 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
                   " is above 1, where the friction sets follow the velocity guess: try the default 0.1)";
   out.residual = x.scale > 0 ? x.norm / x.scale : x.norm;
   if (!out.converged) return out;
-  u = x.u;
-  for (std::size_t j = 0; j < m; ++j) {
-    SsnRowState& st = (*state_)[red_[j].row];
-    const RowNcp& q = x.ncp[j];
-    st.lambda_n = x.ln[j], st.lambda_t = x.lt[j];
-    // The forces on their branch's values, where those are explicit (the
-    // iteration leaves them within tol_force of the force scale, which on
-    // a lightly loaded row is a visible share of its bound): no force off
-    // contact, a slipping row's force at its bound.
-    if (!q.active) st.lambda_n = st.lambda_t = 0;
-    else if (!q.stick && !q.grazing) st.lambda_t = q.g * q.sign;
-    st.active = q.active, st.stick = q.stick, st.bound = q.g, st.grazing = q.grazing;
-    stats_.grazing += q.grazing;
-    st.end_gap_rate = x.r[j], st.slip_rate = x.g[j];
-  }
+  store(x, u);
   return out;
 }
 

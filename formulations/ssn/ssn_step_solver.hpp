@@ -192,7 +192,7 @@ class SsnStepSolver final : public StepSolver {
   void rows(const StepView& v, Iterate& it, const Iterate* branch, bool hold = false);
   SpMat jacobian(const SpMat& K, const Iterate& it) const;
   bool newton_step(const SpMat& K, const Iterate& it, Vec& dx);
-  // Whether the iterate's rows condense (ssn_step_solver.cpp), and the
+  // Whether the iterate's rows condense (ssn_newton_system.cpp), and the
   // Newton step with them condensed.
   bool condensable(const Iterate& it) const;
   bool condensed_step(const SpMat& K, const Iterate& it, Vec& dx);
@@ -211,6 +211,36 @@ class SsnStepSolver final : public StepSolver {
   bool rows_meet(const StepView& v, const Iterate& it) const;
   // Whether row j held grazing meets the friction law's hull at it.
   bool grazing_holds(const Iterate& it, std::size_t j) const;
+  // The steps of solve(), in its order.
+  // The solve's first iterate from u and the rows' saved forces: a row
+  // with none that touches takes the force equilibrium asks of it, a
+  // slipping one its present bound; cold where no row has forces from
+  // an earlier solve or after hold_starting_sets(), warm where every row
+  // has (the first iteration then probes the consistent tangent).
+  Iterate first_iterate(const StepView& v, StepProblem& problem, const Vec& u, bool& cold, bool& warm);
+  // The backtracking line search along dx from x (the header): the trial
+  // at step s on its own sets; redo where the probe of the consistent
+  // tangent failed its test.
+  struct Search {
+    Iterate trial;
+    double s = 1;
+    bool redo = false;
+  };
+  Search line_search(const StepView& v, StepProblem& problem, const Iterate& x, const Vec& dx, bool keep_full_step,
+                     bool probe);
+  // Why the solve stops at a row landing at the step's end that lifts off
+  // from pressing at the friction factor's bound; empty where none does.
+  std::string landing_lift_off(const StepView& v, const Iterate& x, const Iterate& trial) const;
+  // Rows changing set by turns from x to trial (changes rows in all) held
+  // on their branch after kHoldAfter changes.
+  void hold_cycling(const Iterate& x, const Iterate& trial, int changes);
+  // At x, converged on the sets held: free (a copy of x) on its own sets,
+  // and the held rows whose own set differs released or held on it
+  // again; a row slipping along its own force held sticking (stuck).
+  // The rows released: none where x is the solution.
+  int release(const StepView& v, const Iterate& x, Iterate& free, bool round_off, bool& stuck);
+  // The solution x into u and the rows' states.
+  void store(const Iterate& x, Vec& u);
 
   SsnSettings s_;
   const std::vector<ContactRow>* rows_ = nullptr;
