@@ -201,7 +201,7 @@ RemeshChange remesh_change(const Scene& before, const RunState& old_state, const
 RemeshedScene remesh_scene(const Scene& scene, const RunState& state, const RemeshRequest& request) {
   const std::vector<int>& bodies = request.bodies;
   if (bodies.size() != request.size.size()) throw std::invalid_argument("remesh_scene: one size per body");
-  RemeshedScene out{scene, {}, std::vector<Index>(scene.mesh.num_nodes(), -1)};
+  RemeshedScene out{scene, {}, std::vector<Index>(scene.mesh.num_nodes(), -1), 0, {}};
   Mesh mesh;
   RunState& st = out.state;
   st.time = state.time, st.stroke = state.stroke, st.step = state.step, st.dt = state.dt;

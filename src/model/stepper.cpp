@@ -3,26 +3,21 @@
 #include <algorithm>
 #include <any>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
+#include "core/sci.hpp"
 #include "core/timing.hpp"
 #include "fem/error_indicator.hpp"
 #include "mesh/quality.hpp"
 #include "model/boundary.hpp"
 #include "model/die_interference.hpp"
+#include "model/run_health.hpp"
 #include "model/step_control.hpp"
 #include "model/step_problem.hpp"
 
 namespace rpfem {
 
 namespace {
-
-std::string sci(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2g", x);
-  return buf;
-}
 
 // What the tangent's condition says about a failed solve: its least
 // estimate, and that double precision ran out when the estimate is below
@@ -48,14 +43,6 @@ std::string conditioning_note(double rcond, bool stalled) {
 // friction smoothing's continuation, formulations' a): 7 solves of 6 to
 // 15 iterations at 1e-9 on Test II's first step.
 constexpr double kContinuationStart = 1e-3;
-
-// Newton accepts a solve whose correction is at round-off with a residual
-// up to 100 tol_force (solver/newton.cpp). A run with steps solved to more
-// than this factor times tol_force (an order of magnitude above the
-// tolerance asked for) records that its tangent was ill-conditioned:
-// measured, alpha 1e10 leaves 5e-6 to 9e-6 at every step of upsetting,
-// the virtual rigid punch 1.1e-6 at its first solve, 1e-7 at the coarse mesh.
-constexpr double kFloorWarning = 10;
 
 // The least force scale of a residual (StepProblem::set_force_floor),
 // relative to the softest body's initial flow stress times the reference
@@ -92,7 +79,8 @@ struct Solution {
 class Runner {
  public:
   Runner(const Scene& s, ContactFormulation& c, StepObserver& o)
-      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver, s.solver.cholesky, s.solver.lu) {
+      : scene_(s), contact_(c), obs_(o), ws_(s.solver.linear_solver, s.solver.cholesky, s.solver.lu),
+        health_({s.solver.newton.tol_force, s.penetration_tolerance, s.min_scaled_jacobian, s.remesh.enabled}) {
     ws_.threads = s.solver.threads;
   }
 
@@ -164,28 +152,14 @@ class Runner {
   std::vector<ElementMaterial> materials_;
   std::vector<double> flow_stress_;
   RunOutcome out_;
-  // For the warnings: where the least rcond was met; the steps solved only
-  // to a round-off floor far above tol_force, and the worst; the steps
-  // whose penetration exceeded the tolerance, and the worst.
-  int min_rcond_step_ = -1, floor_steps_ = 0, worst_floor_step_ = -1;
-  double worst_floor_ = 0;
-  int penetrating_steps_ = 0, worst_penetration_step_ = -1;
-  // Without remeshing: the steps whose least scaled Jacobian fell below
-  // run.min_scaled_jacobian, the first and the worst (step, element).
-  int distorted_steps_ = 0, first_distorted_step_ = -1, worst_distorted_step_ = -1;
-  Index first_distorted_element_ = -1, worst_distorted_element_ = -1;
-  double first_distorted_ = 0, worst_distorted_ = INFINITY, first_distorted_stroke_ = 0, worst_distorted_stroke_ = 0;
+  RunHealth health_;  // what the recorded steps leave to warn of
   double segment_start_stroke_ = 0;  // mm: where this run started (a resume's stroke)
   int segment_first_step_ = 0;       // the step this run started at (a resume's)
   double segment_start_quality_ = 1;  // the least scaled Jacobian of its first configuration
   double last_dt_ = 0;                // s, the last recorded step's length
   // Step control (stepping.tolerance): the next step's increment (mm), the
-  // recorded step's estimate and its bound, and the steps kept at
-  // stepping.min_increment above their bound (the worst ratio, its step).
+  // recorded step's estimate and its bound.
   double proposed_increment_ = 0, step_estimate_ = 0, step_bound_ = 0;
-  int steps_above_bound_ = 0, worst_bound_step_ = -1;
-  double worst_bound_ratio_ = 0;
-  double worst_penetration_ = 0, worst_penetration_stroke_ = 0;
   // The last recorded step's largest penetration over the element size,
   // at most run.penetration_tolerance (0 where the treatment measures
   // none): the reach of a corner's reflex angle that is not an inversion
@@ -202,12 +176,6 @@ class Runner {
   // The attempt being solved ends at a landing (StepView::at_landing).
   bool at_landing_ = false;
   static constexpr int kRetryWatchdog = 6;
-  // Steps whose exact friction law was violated beyond kFrictionTolerance
-  // (ContactRecord::friction_violation), and the worst.
-  static constexpr double kFrictionTolerance = 1e-8;
-  int friction_steps_ = 0, worst_friction_step_ = -1;
-  double worst_friction_ = 0, worst_friction_stroke_ = 0;
-  std::string worst_friction_cause_;  // the enforcement's words for it
 };
 
 StepView Runner::view(const State& st, int step, double dt) const {
@@ -399,34 +367,12 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
   last_penetration_rel_ = cr.penetration_rel && std::isfinite(*cr.penetration_rel)
                               ? std::min(*cr.penetration_rel, scene_.penetration_tolerance)
                               : 0.0;
-  // The run's worst conditioning, residual floor and penetration count
-  // recorded steps only.
+  // The run's worst conditioning, residual floor, friction, penetration
+  // and distortion count recorded steps only.
   if (!resumed) {
-    if (sol.rcond < out_.min_tangent_rcond) out_.min_tangent_rcond = sol.rcond, min_rcond_step_ = step;
-    if (sol.residual > kFloorWarning * scene_.solver.newton.tol_force) {
-      ++floor_steps_;
-      if (sol.residual > worst_floor_) worst_floor_ = sol.residual, worst_floor_step_ = step;
-    }
-    if (const auto f = cr.friction_violation; f && !(*f <= kFrictionTolerance)) {
-      ++friction_steps_;
-      if (!(*f <= worst_friction_))
-        worst_friction_ = *f, worst_friction_step_ = step, worst_friction_stroke_ = st.stroke,
-        worst_friction_cause_ = cr.friction_cause;
-    }
-    if (!scene_.remesh.enabled && quality < scene_.min_scaled_jacobian) {
-      if (distorted_steps_++ == 0)
-        first_distorted_ = quality, first_distorted_step_ = step, first_distorted_element_ = quality_element,
-        first_distorted_stroke_ = st.stroke;
-      if (quality < worst_distorted_)
-        worst_distorted_ = quality, worst_distorted_step_ = step, worst_distorted_element_ = quality_element,
-        worst_distorted_stroke_ = st.stroke;
-    }
-    if (const auto pen = cr.penetration_rel) {
-      penetrating_steps_ += !(*pen <= scene_.penetration_tolerance);
-      if (!(*pen <= worst_penetration_)) {
-        worst_penetration_ = *pen, worst_penetration_step_ = step, worst_penetration_stroke_ = st.stroke;
-      }
-    }
+    health_.note_solve(step, sol.rcond, sol.residual);
+    health_.note_contact(step, st.stroke, cr.friction_violation, cr.friction_cause, cr.penetration_rel);
+    health_.note_quality(step, st.stroke, quality, quality_element);
   }
   r.x = st.x;
   r.v = sol.v;
@@ -466,56 +412,9 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
 }
 
 RunOutcome Runner::finish() {
-  if (out_.min_tangent_rcond < kIllConditionedRcond || floor_steps_ > 0) {
-    std::string w = "the tangent was ill-conditioned";
-    if (std::isfinite(out_.min_tangent_rcond))
-      w += ": least rcond " + sci(out_.min_tangent_rcond) + " at step " + std::to_string(min_rcond_step_);
-    if (out_.min_tangent_rcond < kIllConditionedRcond) w += " (below 100 x machine epsilon)";
-    if (floor_steps_ > 0)
-      w += "; " + std::to_string(floor_steps_) + " step(s) solved only to the residual's round-off floor, up to " +
-           sci(worst_floor_) + " at step " + std::to_string(worst_floor_step_) + " (solver.tol_force " +
-           sci(scene_.solver.newton.tol_force) + ")";
-    out_.warnings.push_back(w + ": a penalty or stiffness too large for double precision");
-  }
-  if (steps_above_bound_ > 0)
-    out_.warnings.push_back("step control: " + std::to_string(steps_above_bound_) +
-                            " step(s) kept at stepping.min_increment with the local error estimate above its bound, "
-                            "up to " +
-                            sci(worst_bound_ratio_) + " times it at step " + std::to_string(worst_bound_step_) +
-                            " (history.csv: step_error, step_error_bound): the run may miss stepping.tolerance; "
-                            "lower stepping.min_increment");
-  if (friction_steps_ > 0)
-    out_.warnings.push_back("exact friction met only to " + sci(worst_friction_) + " at step " +
-                            std::to_string(worst_friction_step_) + " (stroke " + sci(worst_friction_stroke_) +
-                            " mm), above " + sci(kFrictionTolerance) + " at " + std::to_string(friction_steps_) +
-                            " step(s) (history.csv: kkt_friction, kkt_stick_slip): " +
-                            (worst_friction_cause_.empty() ? "a row at the kink between stick and slip"
-                                                           : worst_friction_cause_) +
-                            "; a smaller stepping.stroke_increment, or the arctan law (regularization = \"arctan\") "
-                            "under another enforcement");
-  if (penetrating_steps_ > 0)
-    out_.warnings.push_back("penetration unacceptable: " + sci(worst_penetration_) +
-                            " of the element size at step " + std::to_string(worst_penetration_step_) + " (stroke " +
-                            sci(worst_penetration_stroke_) + " mm), above run.penetration_tolerance = " +
-                            sci(scene_.penetration_tolerance) + " at " + std::to_string(penetrating_steps_) +
-                            " step(s); raise the contact penalty (formulations.penalty.beta_factor; under "
-                            "formulations.penalty.adapt its beta_max_factor) or shorten the steps "
-                            "(stepping.stroke_increment)");
-  if (distorted_steps_ > 0) {
-    // A mesh this distorted integrates its elements poorly (a corner angle
-    // of asin(0.1) = 5.7 degrees at the default): the fields near the
-    // element, and the loads, are doubtful.
-    std::string w = "mesh distorted: least scaled Jacobian below run.min_scaled_jacobian = " +
-                    sci(scene_.min_scaled_jacobian) + " from step " + std::to_string(first_distorted_step_) +
-                    " (stroke " + sci(first_distorted_stroke_) + " mm, " + element_name(first_distorted_element_) +
-                    ", " + sci(first_distorted_) + ")";
-    if (worst_distorted_step_ != first_distorted_step_)
-      w += ", down to " + sci(worst_distorted_) + " at step " + std::to_string(worst_distorted_step_) + " (stroke " +
-           sci(worst_distorted_stroke_) + " mm, " + element_name(worst_distorted_element_) + ")";
-    out_.warnings.push_back(w + ", at " + std::to_string(distorted_steps_) +
-                            " step(s) (history.csv: min_scaled_jacobian); remesh the bodies (a [remesh] table with "
-                            "enabled = true)");
-  }
+  out_.min_tangent_rcond = health_.min_rcond();
+  for (std::string& w : health_.warnings([this](Index e) { return element_name(e); }))
+    out_.warnings.push_back(std::move(w));
   const LinearSolveStats& ls = ws_.linear.stats();
   out_.assembly_seconds = ws_.assembly_seconds;
   out_.residual_seconds = ws_.residual_seconds;
@@ -821,10 +720,7 @@ bool Runner::take_step(State& st, Solution& sol, int step) {
     proposed_increment_ =
         std::clamp(next_increment(ds, a.estimate, bound, base, false), sp.min_increment, sp.max_increment);
     step_estimate_ = a.estimate, step_bound_ = bound;
-    if (a.estimate > bound) {
-      ++steps_above_bound_;
-      if (a.estimate / bound > worst_bound_ratio_) worst_bound_ratio_ = a.estimate / bound, worst_bound_step_ = step;
-    }
+    health_.note_step_error(step, a.estimate, bound);
   }
   contact_.end_step(view(st, step, dt), a.moved_by);
   st = std::move(a.next);
