@@ -109,6 +109,9 @@ class IpoptStepSolver final : public StepSolver {
   void derived(std::vector<NamedValue>& out) const;
 
  private:
+  // A relative Kuhn-Tucker residual within this multiple of the residual's
+  // own round-off (Kkt::round_off, a one-sample estimate) is round-off.
+  static constexpr double kRoundOffMultiple = 10;
   // One Ipopt solve of the program of nlp_rows_ from `from` (and from the
   // row multipliers `lambda` when warm-starting), its complementarity
   // tolerance set from the element-force scale `force` (N; 0 keeps the
