@@ -150,7 +150,7 @@ double measure(const ExpectedCase& c, const ExpectedMeasure& m, const std::strin
   return load_difference(a, m.column, b, m.reference_load, m.from, m.stroke_tolerance);
 }
 
-std::string sci(double x) {
+std::string sci3(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", x);
   return buf;
@@ -247,8 +247,8 @@ ExpectationResult evaluate_expectation(const ExpectedCase& c, const Expectation&
       v.value = measure(c, m, dir, runs_dir);
       v.pass = std::isfinite(v.value) && (!m.min || v.value >= *m.min) && (!m.max || v.value <= *m.max);
       if (!v.pass)
-        failed.push_back(v.name + " = " + sci(v.value) + ", expected in [" + (m.min ? sci(*m.min) : "-inf") + ", " +
-                         (m.max ? sci(*m.max) : "inf") + "]");
+        failed.push_back(v.name + " = " + sci3(v.value) + ", expected in [" + (m.min ? sci3(*m.min) : "-inf") + ", " +
+                         (m.max ? sci3(*m.max) : "inf") + "]");
     } catch (const std::exception& ex) {
       v.value = NAN;
       failed.push_back(v.name + ": " + ex.what());

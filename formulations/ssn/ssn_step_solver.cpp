@@ -205,16 +205,7 @@ SsnStepSolver::Iterate SsnStepSolver::first_iterate(const StepView& v, StepProbl
   x.ln.resize(m), x.lt.resize(m);
   for (std::size_t j = 0; j < m; ++j) x.ln[j] = (*state_)[red_[j].row].lambda_n, x.lt[j] = (*state_)[red_[j].row].lambda_t;
   warm = !hold_start_;
-  // A cold solve: a run's first (no row has forces from an earlier solve)
-  // or the first after a remesh (hold_starting_sets()). Its sets are
-  // found from scratch, in rounds (the iteration converging on the sets
-  // held, then releasing the rows whose own set differs), and each round
-  // has the scene's solver.max_iterations, as each contact pass of the
-  // other enforcements' solves has (model/stepper.cpp). The 72 x 48 ring
-  // at m = 0.1 found its first solve's sets in 4 rounds and 58 iterations
-  // (27 to converge on the first sets held), and stopped there on one
-  // budget of 40; a warm solve keeps the one budget.
-  cold = true;
+  cold = true;  // unless a row has forces from an earlier solve (below)
   forces(problem, x);
   // A row with no forces of its own yet (a run's first solve, the first
   // after a remesh) that touches at the start takes the force its nodes'
@@ -472,6 +463,15 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
   const bool probing = secant && warm;
   if (probing) secant = false;
   int redone = 0;
+  // A cold solve: a run's first (no row has forces from an earlier solve)
+  // or the first after a remesh (hold_starting_sets()). Its sets are
+  // found from scratch, in rounds (the iteration converging on the sets
+  // held, then releasing the rows whose own set differs), and each round
+  // has the scene's solver.max_iterations, as each contact pass of the
+  // other enforcements' solves has (model/stepper.cpp). The 72 x 48 ring
+  // at m = 0.1 found its first solve's sets in 4 rounds and 58 iterations
+  // (27 to converge on the first sets held), and stopped there on one
+  // budget of 40; a warm solve keeps the one budget.
   int round_start = 0;  // the iterations before this round (cold solves)
   for (int iter = 1;; ++iter) {
     if (iter + redone - round_start > ns.max_iterations) {

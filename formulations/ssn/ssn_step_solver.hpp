@@ -218,7 +218,8 @@ class SsnStepSolver final : public StepSolver {
   // an earlier solve or after hold_starting_sets(), warm where every row
   // has (the first iteration then probes the consistent tangent).
   Iterate first_iterate(const StepView& v, StepProblem& problem, const Vec& u, bool& cold, bool& warm);
-  // The backtracking line search along dx from x (the header): the trial
+  // The backtracking line search along dx from x (the opening comment
+  // above: Armijo on the Lagrangian of x's sets): the trial
   // at step s on its own sets; redo where the probe of the consistent
   // tangent failed its test.
   struct Search {

@@ -143,7 +143,8 @@ struct ContactRecord {
   std::optional<double> penetration_rel;
   // An exact friction law's largest violation (relative: of a row's bound,
   // or a sticking row's slip over the speed scale); nullopt if the
-  // treatment has no exact friction. The run warns above 1e-8.
+  // treatment has no exact friction. The run warns above 1e-8
+  // (RunHealth::kFrictionTolerance).
   std::optional<double> friction_violation;
   std::string friction_cause;  // the row behind it and why (empty: not named)
 };

@@ -126,9 +126,7 @@ struct RunOutcome {
   int by_cholmod = 0, by_klu = 0, by_umfpack = 0;  // la/linear_solver.hpp's LinearSolveStats
   double min_tangent_rcond = INFINITY;  // over the recorded steps
   // What the run met that makes its results doubtful, as sentences for the
-  // driver to record and print: an ill-conditioned tangent (below
-  // kIllConditionedRcond, or steps solved only to a round-off floor far
-  // above tol_force), a penetration above scene.penetration_tolerance.
+  // driver to record and print (model/run_health.hpp).
   std::vector<std::string> warnings;
 };
 

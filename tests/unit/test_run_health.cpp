@@ -3,10 +3,8 @@
 // run leaves distortion to the remesher.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <string>
 
-#include "la/linear_solver.hpp"
 #include "model/run_health.hpp"
 
 using namespace rpfem;
