@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "fem/error_indicator.hpp"
+#include "mesh/error_indicator.hpp"
 #include "fem/quad4.hpp"
 #include "fem/rigid_plastic_element.hpp"
 #include "mesh/generate.hpp"

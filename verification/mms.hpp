@@ -22,7 +22,7 @@ struct MmsResult {
   double l2_error = 0;   // || v_h - v* ||_L2 / || v* ||_L2
   // The effective strain rate's error || epsdot(v_h) - epsdot(v*) ||_L2 /
   // || epsdot(v*) ||_L2 (3x3 Gauss), and its recovery-based estimate
-  // (fem/error_indicator.hpp) from the 2x2 points' rates.
+  // (mesh/error_indicator.hpp) from the 2x2 points' rates.
   double strain_rate_error = 0;
   double strain_rate_estimate = 0;
   int newton_iterations = 0;

@@ -1,4 +1,4 @@
-// Which friction treatment an enforcement takes (contact/friction_law.hpp,
+// Which friction treatment an enforcement takes (material/friction_law.hpp,
 // `regularization`): the arctan law, the exact law, or both. A scene whose
 // friction table asks for one the enforcement cannot do is refused at
 // input, naming the key.

@@ -15,7 +15,7 @@
 // makes it the augmented Lagrangian (Bertsekas 1982, sec. 2.1; Laursen 2002,
 // sec. 5.3).
 // Friction (paper eq. 11-12, the Chen-Kobayashi arctan law,
-// contact/friction_law.hpp): the potential B psi(gamma_T) with the bound
+// material/friction_law.hpp): the potential B psi(gamma_T) with the bound
 //   factor:  B = m k w
 //   Coulomb: B = min(mu max(N, 0), k w)   (capped at the shear yield k of
 //            the softer side: sticking)
@@ -28,7 +28,7 @@
 #pragma once
 #include <array>
 
-#include "contact/friction_law.hpp"
+#include "material/friction_law.hpp"
 #include "contact/pair_kinematics.hpp"
 #include "core/types.hpp"
 #include "model/contact_formulation.hpp"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "contact/friction_law.hpp"
+#include "material/friction_law.hpp"
 #include "core/types.hpp"
 
 namespace rpfem {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fem/error_indicator.hpp"
+#include "mesh/error_indicator.hpp"
 
 namespace rpfem {
 

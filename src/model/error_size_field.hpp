@@ -1,7 +1,7 @@
 // The remesher's element size from the strain-rate error of the old mesh
 // (remesh.target_error; docs/theory.md, "Sizes from the error"). Per old
 // element e of a body, with eta_e its recovery-based error
-// (fem/error_indicator.hpp), h_e = sqrt(A_e) its size, ||epsdot_h|| the
+// (mesh/error_indicator.hpp), h_e = sqrt(A_e) its size, ||epsdot_h|| the
 // body's strain-rate norm and eta_bar the target relative error: the error
 // spread equally over the N elements of the new mesh,
 //

@@ -7,7 +7,7 @@
 
 #include "core/sci.hpp"
 #include "core/timing.hpp"
-#include "fem/error_indicator.hpp"
+#include "mesh/error_indicator.hpp"
 #include "mesh/quality.hpp"
 #include "model/boundary.hpp"
 #include "model/die_interference.hpp"
@@ -389,7 +389,7 @@ void Runner::record(const State& st, const Solution& sol, int step, double dt, i
     for (double rate : sol.rate[e]) r.rigid_points += rate < derived_.limiting_strain_rate;
   }
   r.flow_stress = sol.flow_stress;
-  // The recovery-based estimate of the strain-rate error (fem/error_indicator.hpp).
+  // The recovery-based estimate of the strain-rate error (mesh/error_indicator.hpp).
   StrainRateError zz = strain_rate_error(scene_.mesh, st.x, sol.rate, scene_.geometry);
   r.strain_rate_error = std::move(zz.element_rms);
   r.strain_rate_error_relative = zz.relative;

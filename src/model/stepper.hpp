@@ -36,7 +36,7 @@ struct StepRecord {
   double step_error_bound = 0;          // and its bound (model/step_control.hpp; 0: off)
   std::vector<Vec2> x, v;               // mm, mm/s
   std::vector<double> strain_rate, strain, mean_stress, flow_stress;  // per element
-  // The recovery-based strain-rate error (fem/error_indicator.hpp): per
+  // The recovery-based strain-rate error (mesh/error_indicator.hpp): per
   // element its root mean square (1/s), and the global relative estimate.
   std::vector<double> strain_rate_error;
   double strain_rate_error_relative = 0;

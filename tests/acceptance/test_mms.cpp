@@ -42,7 +42,7 @@ INSTANTIATE_TEST_SUITE_P(Kernel, Mms, ::testing::Values(Geometry::PlaneStrain, G
                          });
 
 // Requirement (kernel): the recovery-based (Zienkiewicz-Zhu) estimate of
-// the strain-rate error (fem/error_indicator.hpp) measures the true error
+// the strain-rate error (mesh/error_indicator.hpp) measures the true error
 // of the manufactured solution.
 class MmsIndicator : public ::testing::TestWithParam<Geometry> {};
 

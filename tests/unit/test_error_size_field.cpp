@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "fem/error_indicator.hpp"
+#include "mesh/error_indicator.hpp"
 #include "fem/quad4.hpp"
 #include "mesh/generate.hpp"
 #include "model/error_size_field.hpp"

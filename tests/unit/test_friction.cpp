@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "contact/friction_law.hpp"
+#include "material/friction_law.hpp"
 
 using namespace rpfem;
 

@@ -1,10 +1,10 @@
 // Step control by a local error estimate (model/step_control.hpp) and the
-// recovery-based strain-rate error (fem/error_indicator.hpp).
+// recovery-based strain-rate error (mesh/error_indicator.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "fem/error_indicator.hpp"
+#include "mesh/error_indicator.hpp"
 #include "fem/quad4.hpp"
 #include "mesh/generate.hpp"
 #include "model/step_control.hpp"

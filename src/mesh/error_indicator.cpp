@@ -1,4 +1,4 @@
-#include "fem/error_indicator.hpp"
+#include "mesh/error_indicator.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "contact/friction_law.hpp"
+#include "material/friction_law.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -6,7 +6,8 @@
 // with v_s the sliding velocity relative to the die and a a small speed.
 //   friction factor: tau_max = m k,           k = sigma_bar / sqrt(3)
 //   Coulomb:         tau_max = min(mu p, k),  p the normal pressure
-// Shared by the contact formulations; the kernel does not use it.
+// A die carries its law (geometry/die.hpp); the contact formulations
+// evaluate it, the elements never do.
 //
 // The law may instead be treated exactly (`regularization = "exact"` in its
 // table): no smoothing speed, the slip rate zero where the friction force
