@@ -159,14 +159,12 @@ void SsnEnforcement::measure(const StepView& v) {
       // rounds (ssn_step_solver.cpp) has no solution on any branch.
       ++slip_;
       const bool along = s.lambda_t * s.slip_rate > 0;
-      violates(along ? ratio : std::max(0.0, ratio - 1), i, friction_,
-               along ? "held grazing (no normal force, slip rate %.3g mm/s) with a friction force %.3g times its "
-                       "bound along its slip: on the friction factor's jump, where pressing at its bound lifts it "
-                       "off and free it penetrates"
-                     : "held grazing (no normal force, slip rate %.3g mm/s) with a friction force %.3g times its "
-                       "bound: on the friction factor's jump, where pressing at its bound lifts it off and free it "
-                       "penetrates",
-               s.slip_rate, ratio);
+      const std::string why = std::string("held grazing (no normal force, slip rate %.3g mm/s) with a friction force "
+                                          "%.3g times its bound") +
+                              (along ? " along its slip" : "") +
+                              ": on the friction factor's jump, where pressing at its bound lifts it off and free it "
+                              "penetrates";
+      violates(along ? ratio : std::max(0.0, ratio - 1), i, friction_, why.c_str(), s.slip_rate, ratio);
       continue;
     }
     if (s.stick) {

@@ -197,15 +197,15 @@ bool SsnStepSolver::grazing_holds(const Iterate& it, std::size_t j) const {
   return std::abs(it.lt[j]) <= q.g + tol && it.lt[j] * it.g[j] <= tol * std::abs(it.g[j]);
 }
 
-SsnStepSolver::Iterate SsnStepSolver::first_iterate(const StepView& v, StepProblem& problem, const Vec& u, bool& cold,
-                                                    bool& warm) {
+SsnStepSolver::Start SsnStepSolver::first_iterate(const StepView& v, StepProblem& problem, const Vec& u) {
   const std::size_t m = red_.size();
-  Iterate x;
+  Start start;
+  Iterate& x = start.x;
+  bool &cold = start.cold, &warm = start.warm;
   x.u = u;
   x.ln.resize(m), x.lt.resize(m);
   for (std::size_t j = 0; j < m; ++j) x.ln[j] = (*state_)[red_[j].row].lambda_n, x.lt[j] = (*state_)[red_[j].row].lambda_t;
   warm = !hold_start_;
-  cold = true;  // unless a row has forces from an earlier solve (below)
   forces(problem, x);
   // A row with no forces of its own yet (a run's first solve, the first
   // after a remesh) that touches at the start takes the force its nodes'
@@ -258,7 +258,7 @@ SsnStepSolver::Iterate SsnStepSolver::first_iterate(const StepView& v, StepProbl
     for (std::size_t j = 0; j < m; ++j) held_[j] = x.ncp[j], held_[j]->grazing = false;
     hold_start_ = false;
   }
-  return x;
+  return start;
 }
 
 SsnStepSolver::Search SsnStepSolver::line_search(const StepView& v, StepProblem& problem, const Iterate& x, const Vec& dx,
@@ -454,9 +454,9 @@ SolveOutcome SsnStepSolver::solve(const StepView& v, StepProblem& problem, Vec& 
     if (!in_solve[j]) (*state_)[j] = {};
   const NewtonSettings& ns = s_.newton;
   bool secant = ns.direct_iterations > 0;
-  bool cold = true;  // a run's first solve or the first after a remesh (first_iterate)
-  bool warm = true;  // every row's forces from an earlier solve
-  Iterate x = first_iterate(v, problem, u, cold, warm);
+  Start start = first_iterate(v, problem, u);
+  Iterate x = std::move(start.x);
+  const bool cold = start.cold, warm = start.warm;
   double last_full = -1;  // |du| of the last full consistent step (-1: none)
   // A warm start's first iteration probes the consistent tangent (the
   // header); redone with the secant one, and counted, where that fails.

@@ -217,7 +217,11 @@ class SsnStepSolver final : public StepSolver {
   // slipping one its present bound; cold where no row has forces from
   // an earlier solve or after hold_starting_sets(), warm where every row
   // has (the first iteration then probes the consistent tangent).
-  Iterate first_iterate(const StepView& v, StepProblem& problem, const Vec& u, bool& cold, bool& warm);
+  struct Start {
+    Iterate x;
+    bool cold = true, warm = true;
+  };
+  Start first_iterate(const StepView& v, StepProblem& problem, const Vec& u);
   // The backtracking line search along dx from x (the opening comment
   // above: Armijo on the Lagrangian of x's sets): the trial
   // at step s on its own sets; redo where the probe of the consistent
